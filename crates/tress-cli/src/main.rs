@@ -1,0 +1,3 @@
+//! The `tress` command-line tool.
+
+fn main() {}

@@ -1,0 +1,12 @@
+//! Hair strand assets for tress: the [`HairAsset`] data model (structure of arrays), its
+//! operations (transform, resample, subset, merge, follow hairs), file formats (Cem Yuksel `.hair`,
+//! TressFX `.tfx`) and procedural generators (a head and hair styles grown from its scalp).
+//!
+//! This crate has no GPU dependency. Everything that reads user data returns a typed [`HairError`]
+//! and never panics.
+
+mod asset;
+mod error;
+
+pub use asset::{Aabb, HairAsset, LengthStats};
+pub use error::HairError;

@@ -1,0 +1,1 @@
+//! CPU reference ("twin") of every shading and shadowing formula used by the tress shaders.
