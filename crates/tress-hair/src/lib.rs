@@ -7,6 +7,13 @@
 
 mod asset;
 mod error;
+mod follow;
+pub mod formats;
+pub mod generate;
+mod merge;
+mod ops;
+pub mod rng;
 
 pub use asset::{Aabb, HairAsset, LengthStats};
 pub use error::HairError;
+pub use follow::FollowParams;

@@ -1,0 +1,1 @@
+//! Hair file formats: Cem Yuksel `.hair` and TressFX `.tfx`.

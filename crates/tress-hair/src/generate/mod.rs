@@ -1,0 +1,1 @@
+//! Procedural hair: a head and hair styles grown from its scalp.

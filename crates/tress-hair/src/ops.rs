@@ -1,0 +1,1 @@
+//! Operations on hair assets: transform, resample, subset.
