@@ -1,1 +1,113 @@
 //! CPU reference ("twin") of every shading and shadowing formula used by the tress shaders.
+//!
+//! Each function here has a WGSL twin of the same name and the same arguments in
+//! `crates/tress-render/src/shaders/common/shading.wgsl`. The twins exist so a GPU test can evaluate
+//! the WGSL function on a grid of inputs and compare it with the CPU function (design rule 6), and
+//! so the math can be unit-tested for its properties without a GPU. Names follow the papers'
+//! symbols (design rule 5); every item cites its paper, section and equation.
+//!
+//! # Conventions
+//!
+//! - Every direction points *away* from the shaded point: `l` towards the light, `v` towards the
+//!   eye. `t` is the unit strand tangent, pointing from root to tip. All of them are unit vectors
+//!   unless a function says otherwise.
+//! - Colors are linear RGB. Compositing inputs are *straight* (not premultiplied) colors with a
+//!   separate alpha; accumulators are *premultiplied* (see [`blend`]).
+//! - Screen coordinates follow wgpu: origin at the top-left corner of the framebuffer, `y` down,
+//!   pixel centres at half-integers (what `@builtin(position)` holds in a fragment shader).
+//!
+//! # CPU ↔ WGSL signatures
+//!
+//! | CPU (this crate) | WGSL (`shading.wgsl`) |
+//! | --- | --- |
+//! | [`KajiyaKay`] `{ diffuse: Vec3, specular: Vec3, exponent: f32 }` | `struct KajiyaKay { diffuse: vec3f, specular: vec3f, exponent: f32 }` |
+//! | [`kajiya_kay_diffuse`]`(t: Vec3, l: Vec3) -> f32` | `kajiya_kay_diffuse(t: vec3f, l: vec3f) -> f32` |
+//! | [`kajiya_kay_specular`]`(t: Vec3, l: Vec3, v: Vec3, exponent: f32) -> f32` | `kajiya_kay_specular(t: vec3f, l: vec3f, v: vec3f, exponent: f32) -> f32` |
+//! | [`kajiya_kay`]`(kk: &KajiyaKay, t: Vec3, l: Vec3, v: Vec3) -> Vec3` | `kajiya_kay(kk: KajiyaKay, t: vec3f, l: vec3f, v: vec3f) -> vec3f` |
+//! | [`shift_tangent`]`(t: Vec3, n: Vec3, shift: f32) -> Vec3` | `shift_tangent(t: vec3f, n: vec3f, shift: f32) -> vec3f` |
+//! | [`strand_specular`]`(t: Vec3, v: Vec3, l: Vec3, exponent: f32) -> f32` | `strand_specular(t: vec3f, v: vec3f, l: vec3f, exponent: f32) -> f32` |
+//! | [`scheuermann_diffuse`]`(n: Vec3, l: Vec3) -> f32` | `scheuermann_diffuse(n: vec3f, l: vec3f) -> f32` |
+//! | [`HairLighting`] (7 fields, same order) | `struct HairLighting` |
+//! | [`HairSample`] (6 fields, same order) | `struct HairSample` |
+//! | [`hair_lighting`]`(p: &HairLighting, s: &HairSample, l: Vec3, light_color: Vec3, v: Vec3) -> Vec3` | `hair_lighting(p: HairLighting, s: HairSample, l: vec3f, light_color: vec3f, v: vec3f) -> vec3f` |
+//! | [`coverage_from_distance`]`(d: f32, line_thickness: f32) -> f32` | `coverage_from_distance(d: f32, line_thickness: f32) -> f32` |
+//! | [`screen_from_clip`]`(clip: Vec4, resolution: Vec2) -> Vec2` | `screen_from_clip(clip: vec4f, resolution: vec2f) -> vec2f` |
+//! | [`strand_coverage`]`(screen_fragment: Vec2, world_line: Vec4, clip_from_world: Mat4, resolution: Vec2, line_thickness: f32) -> f32` | `strand_coverage(screen_fragment: vec2f, world_line: vec4f, clip_from_world: mat4x4f, resolution: vec2f, line_thickness: f32) -> f32` |
+//! | [`tip_fade`]`(thickness: f32, line_thickness: f32) -> f32` | `tip_fade(thickness: f32, line_thickness: f32) -> f32` |
+//! | [`strand_visibility`]`(n: f32, alpha: f32) -> f32` | `strand_visibility(n: f32, alpha: f32) -> f32` |
+//! | [`adsm_visibility`]`(d: f32, r: f32, alpha: f32) -> f32` | `adsm_visibility(d: f32, r: f32, alpha: f32) -> f32` |
+//! | [`adsm_depth`]`(fragment_depth: f32, occluder_depth: f32) -> f32` | `adsm_depth(fragment_depth: f32, occluder_depth: f32) -> f32` |
+//! | [`adsm_pcf`]`(map: &DepthMap, texel: IVec2, kernel_radius: i32, fragment_depth: f32, r: f32, alpha: f32) -> f32` | `adsm_pcf(map: texture_depth_2d, texel: vec2i, kernel_radius: i32, fragment_depth: f32, r: f32, alpha: f32) -> f32` |
+//! | [`blend_under`]`(acc: Vec4, src: Vec4) -> Vec4` | `blend_under(acc: vec4f, src: vec4f) -> vec4f` |
+//! | [`blend_front_to_back`]`(acc: Vec4, color: Vec3, alpha: f32) -> Vec4` | `blend_front_to_back(acc: vec4f, color: vec3f, alpha: f32) -> vec4f` |
+//! | [`TailAccum`] `{ weighted_color: Vec3, alpha_sum: f32, transmittance: f32 }`, [`TailAccum::EMPTY`] | `struct TailAccum`, `tail_empty() -> TailAccum` |
+//! | [`tail_accumulate`]`(tail: TailAccum, color: Vec3, alpha: f32) -> TailAccum` | `tail_accumulate(tail: TailAccum, color: vec3f, alpha: f32) -> TailAccum` |
+//! | [`tail_resolve`]`(tail: TailAccum) -> Vec4` | `tail_resolve(tail: TailAccum) -> vec4f` |
+//! | [`composite_over_background`]`(acc: Vec4, background: Vec3) -> Vec3` | `composite_over_background(acc: vec4f, background: vec3f) -> vec3f` |
+//!
+//! CPU-only helpers, compositions of the twins above with no WGSL counterpart (their loops live in
+//! the technique's resolve shader): [`StrandFragment`], [`composite_sorted`], [`resolve_k_buffer`],
+//! and the [`DepthMap`] view that stands in for the shadow-map texture.
+//!
+//! Where the WGSL result is undefined (WGSL `pow(x, y)` for `x = 0, y <= 0`, `normalize` of a zero
+//! vector), the CPU twin documents the precondition; GPU-vs-CPU tests keep their grids inside it.
+
+pub mod blend;
+pub mod coverage;
+pub mod kajiya_kay;
+pub mod scheuermann;
+pub mod shadow;
+#[cfg(test)]
+mod test_util;
+
+pub use blend::{
+    StrandFragment, TailAccum, blend_front_to_back, blend_under, composite_over_background,
+    composite_sorted, resolve_k_buffer, tail_accumulate, tail_resolve,
+};
+pub use coverage::{coverage_from_distance, screen_from_clip, strand_coverage, tip_fade};
+pub use kajiya_kay::{KajiyaKay, kajiya_kay, kajiya_kay_diffuse, kajiya_kay_specular};
+pub use scheuermann::{
+    HairLighting, HairSample, hair_lighting, scheuermann_diffuse, shift_tangent, strand_specular,
+};
+pub use shadow::{
+    DepthMap, MAX_PCF_RADIUS, ShadingError, adsm_depth, adsm_pcf, adsm_visibility,
+    strand_visibility,
+};
+
+/// `sqrt(1 - c²)`, the sine of the angle whose cosine is `c`, clamped so a `|c|` rounded slightly
+/// above 1 gives 0 instead of NaN. Mirrors the WGSL `sin_from_cos`.
+pub(crate) fn sin_from_cos(c: f32) -> f32 {
+    (1.0 - c * c).max(0.0).sqrt()
+}
+
+/// WGSL `saturate`: clamp to `[0, 1]`.
+pub(crate) fn saturate(x: f32) -> f32 {
+    x.clamp(0.0, 1.0)
+}
+
+/// WGSL / HLSL `smoothstep(low, high, x)`: Hermite interpolation `t²(3 - 2t)` of
+/// `t = saturate((x - low) / (high - low))`.
+pub(crate) fn smoothstep(low: f32, high: f32, x: f32) -> f32 {
+    let t = saturate((x - low) / (high - low));
+    t * t * (3.0 - 2.0 * t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn smoothstep_matches_its_definition() {
+        assert_eq!(smoothstep(-1.0, 0.0, -2.0), 0.0);
+        assert_eq!(smoothstep(-1.0, 0.0, 0.5), 1.0);
+        assert!((smoothstep(-1.0, 0.0, -0.5) - 0.5).abs() < 1e-6);
+        // t = 0.25: 0.0625 * 2.5 = 0.15625
+        assert!((smoothstep(-1.0, 0.0, -0.75) - 0.15625).abs() < 1e-6);
+    }
+
+    #[test]
+    fn sin_from_cos_never_nan() {
+        assert_eq!(sin_from_cos(1.000_001), 0.0);
+        assert!((sin_from_cos(0.6) - 0.8).abs() < 1e-6);
+    }
+}
