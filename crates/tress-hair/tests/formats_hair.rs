@@ -335,7 +335,7 @@ fn rejects_truncated_arrays() {
     let (b, _) = three_strands_file(0);
     let e = format_error(read_hair(&b[..b.len() - 1]));
     assert!(
-        e.contains("truncated: the points array needs bytes 134..206"),
+        e.contains("truncated: the points array should occupy bytes 134..206"),
         "{e}"
     );
     let e = format_error(read_hair(&b[..130]));
@@ -365,7 +365,9 @@ fn huge_counts_in_a_tiny_file_fail_before_allocating() {
     let (mut b, _) = three_strands_file(0);
     b[4..8].copy_from_slice(&0x4000_0000u32.to_le_bytes());
     b[8..12].copy_from_slice(&0x4000_0000u32.to_le_bytes());
-    assert!(format_error(read_hair(&b)).contains("segments array needs bytes 128..2147483776"));
+    assert!(
+        format_error(read_hair(&b)).contains("segments array should occupy bytes 128..2147483776")
+    );
 }
 
 #[test]

@@ -94,7 +94,7 @@ pub(crate) fn array<'a>(
         _ => Err(HairError::format(
             format,
             format!(
-                "truncated: the {what} needs bytes {offset}..{} but the file has {} bytes",
+                "truncated: the {what} should occupy bytes {offset}..{} but the file has {} bytes",
                 offset as u128 + len as u128,
                 bytes.len()
             ),
