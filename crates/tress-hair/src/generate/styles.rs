@@ -288,15 +288,22 @@ impl Grower {
         let lift = PONYTAIL_LIFT * root.lift;
         // The path rises `lift` above the scalp and bends into its place in the bundle.
         let fix = band - (tie.surface + tie.normal * lift);
+        // The great circle from the root's direction to the tie's: `from` turned toward `perp`.
+        let axis = from.cross(tie.dir);
+        let angle = axis.length().atan2(from.dot(tie.dir));
+        let perp = axis.normalize_or(from.any_orthonormal_vector()).cross(from);
         let path = |t: f32| {
-            let (s, n) = self
-                .head
-                .surface_point(from.slerp(tie.dir, t).normalize_or(tie.dir));
+            let (sin, cos) = (angle * t).sin_cos();
+            let (s, n) = self.head.surface_point(from * cos + perp * sin);
             s + n * (lift * t) + fix * (t * t * t)
         };
-        let scalp_length: f32 = (1..=16)
-            .map(|k| path(k as f32 / 16.0).distance(path((k - 1) as f32 / 16.0)))
-            .sum();
+        let mut scalp_length = 0.0;
+        let mut prev = root.scalp.position;
+        for k in 1..=8 {
+            let p = path(k as f32 / 8.0);
+            scalp_length += p.distance(prev);
+            prev = p;
+        }
         let total = scalp_length + self.length;
         let last = (out.len() - 1) as f32;
         let mut tail_start = out.len();
