@@ -6,22 +6,25 @@ use proptest::prelude::*;
 use tress_hair::HairAsset;
 use tress_hair::formats::{parse_tfx, read_hair, read_tfx, write_hair, write_tfx};
 
-/// Every reader on the same bytes: none may panic. An `Ok` result must be a valid asset.
+/// Every reader on the same bytes: none may panic. What a reader accepts must be a valid asset
+/// that its writer writes and reads back unchanged.
 fn read_all(bytes: &[u8]) {
-    for asset in [
-        read_hair(bytes),
-        read_tfx(bytes),
-        parse_tfx(bytes).map(|f| f.guides),
-    ]
-    .into_iter()
-    .flatten()
-    {
+    let hair = read_hair(bytes);
+    let tfx = read_tfx(bytes);
+    let guides = parse_tfx(bytes).map(|f| f.guides);
+    for asset in [&hair, &tfx, &guides].into_iter().flatten() {
         assert!(asset.strand_count() > 0);
         assert!(asset.positions().iter().all(|p| p.is_finite()));
         assert_eq!(
             *asset.strand_offsets().last().unwrap() as usize,
             asset.vertex_count()
         );
+    }
+    if let Ok(asset) = hair {
+        assert_eq!(read_hair(&write_hair(&asset).unwrap()).unwrap(), asset);
+    }
+    if let Ok(guides) = guides {
+        assert_eq!(read_tfx(&write_tfx(&guides).unwrap()).unwrap(), guides);
     }
 }
 
