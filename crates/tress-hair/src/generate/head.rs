@@ -14,7 +14,7 @@ const HAIRLINE_SIDE: f32 = 85.0 * PI / 180.0;
 /// How far the hairline rises at the forehead and drops at the nape from `HAIRLINE_SIDE`: the
 /// hairline lies 55° from the crown above the face and 115° (below the equator) at the nape.
 const HAIRLINE_SWING: f32 = 30.0 * PI / 180.0;
-/// Bounds of [`Head::mesh`]'s `subdivisions`.
+/// The range [`Head::mesh`] clamps `subdivisions` to.
 const MESH_SUBDIVISIONS: std::ops::RangeInclusive<u32> = 2..=1024;
 
 /// An axis-aligned ellipsoid: the head hair styles grow from, or the body fur grows on.
@@ -166,18 +166,12 @@ impl Head {
         }
     }
 
-    /// A triangle mesh of the ellipsoid: `subdivisions` latitude bands (2 to 1024) and twice as
-    /// many longitude sectors, one vertex at each pole, counter-clockwise triangles seen from
-    /// outside, and exact ellipsoid normals.
-    pub fn mesh(&self, subdivisions: u32) -> Result<TriMesh, HairError> {
-        self.validate()?;
-        if !MESH_SUBDIVISIONS.contains(&subdivisions) {
-            return Err(HairError::Parameter(format!(
-                "head mesh subdivisions must lie in {}..={}, got {subdivisions}",
-                MESH_SUBDIVISIONS.start(),
-                MESH_SUBDIVISIONS.end()
-            )));
-        }
+    /// A triangle mesh of the ellipsoid: `subdivisions` latitude bands (clamped to 2..=1024) and
+    /// twice as many longitude sectors, one vertex at each pole, counter-clockwise triangles seen
+    /// from outside, and exact ellipsoid normals. A head that fails [`Head::validate`] gives
+    /// non-finite positions or normals: validate heads that come from user input first.
+    pub fn mesh(&self, subdivisions: u32) -> TriMesh {
+        let subdivisions = subdivisions.clamp(*MESH_SUBDIVISIONS.start(), *MESH_SUBDIVISIONS.end());
         let bands = subdivisions;
         let sectors = 2 * subdivisions;
         let rings = bands - 1;
@@ -210,11 +204,11 @@ impl Head {
             }
             indices.extend_from_slice(&[ring(rings, j), bottom, ring(rings, j + 1)]);
         }
-        Ok(TriMesh {
+        TriMesh {
             positions,
             normals,
             indices,
-        })
+        }
     }
 }
 
@@ -281,7 +275,7 @@ mod tests {
     #[test]
     fn mesh_lies_on_the_ellipsoid_and_faces_out() {
         let h = head();
-        let m = h.mesh(12).unwrap();
+        let m = h.mesh(12);
         assert_eq!(m.positions.len(), 2 + 11 * 24);
         assert_eq!(m.triangle_count(), 2 * 12 * 24 - 2 * 24);
         for (p, n) in m.positions.iter().zip(&m.normals) {
@@ -317,15 +311,27 @@ mod tests {
     }
 
     #[test]
-    fn mesh_rejects_bad_input() {
-        assert!(head().mesh(1).is_err());
-        assert!(head().mesh(100_000).is_err());
+    fn mesh_subdivisions_are_clamped_and_heads_validated() {
+        assert_eq!(head().mesh(0), head().mesh(2));
+        // Two bands of four sectors: an octahedron.
+        assert_eq!(head().mesh(2).triangle_count(), 8);
+        assert_eq!(head().mesh(2).positions.len(), 6);
+        assert_eq!(head().mesh(u32::MAX).positions.len(), 2 + 1023 * 2048);
+        assert!(head().validate().is_ok());
         assert!(
             Head {
                 radii: Vec3::new(1.0, 0.0, 1.0),
                 ..head()
             }
-            .mesh(8)
+            .validate()
+            .is_err()
+        );
+        assert!(
+            Head {
+                radii: Vec3::new(1.0, f32::INFINITY, 1.0),
+                ..head()
+            }
+            .validate()
             .is_err()
         );
         assert!(
@@ -333,14 +339,14 @@ mod tests {
                 center: Vec3::NAN,
                 ..head()
             }
-            .mesh(8)
+            .validate()
             .is_err()
         );
     }
 
     #[test]
     fn obj_parses_back() {
-        let m = head().mesh(5).unwrap();
+        let m = head().mesh(5);
         let obj = m.to_obj();
         let mut v = Vec::new();
         let (mut vn, mut faces) = (0usize, Vec::new());
