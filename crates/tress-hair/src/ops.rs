@@ -268,6 +268,7 @@ fn arc_length_samples(strand: &[Vec3], first: u32, out: &mut [Sample]) {
 #[cfg(test)]
 mod tests {
     use glam::{Quat, Vec2};
+    use proptest::prelude::*;
 
     use super::*;
 
@@ -470,5 +471,46 @@ mod tests {
         assert!(h.subset(1.5, 0).is_err());
         assert!(h.subset(f32::NAN, 0).is_err());
         assert_eq!(h.subset(0.0, 0).unwrap().strand_count(), 1);
+    }
+
+    /// Distance from `p` to the polyline `line`.
+    fn distance_to_polyline(p: Vec3, line: &[Vec3]) -> f32 {
+        line.windows(2)
+            .map(|w| {
+                let d = w[1] - w[0];
+                let t = if d.length_squared() > 0.0 {
+                    ((p - w[0]).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                p.distance(w[0] + d * t)
+            })
+            .fold(f32::INFINITY, f32::min)
+    }
+
+    proptest! {
+        #[test]
+        fn resampled_vertices_lie_on_the_strand_evenly_spaced(
+            points in prop::collection::vec(prop::array::uniform3(-10.0f32..10.0), 2..12),
+            n in 2u32..40,
+        ) {
+            let p: Vec<Vec3> = points.into_iter().map(Vec3::from_array).collect();
+            let h = HairAsset::from_counts(p.clone(), &[p.len() as u32]).unwrap();
+            let r = h.resample_count(n).unwrap();
+            let s = r.strand(0);
+            prop_assert_eq!(s.len(), n as usize);
+            prop_assert_eq!(s[0], p[0]);
+            prop_assert_eq!(s[s.len() - 1], p[p.len() - 1]);
+            let length = h.strand_lengths()[0];
+            let step = length / (n - 1) as f32;
+            let eps = 1e-4 * (1.0 + length);
+            for q in s {
+                prop_assert!(distance_to_polyline(*q, &p) < eps, "{} is off the strand", q);
+            }
+            // Chords of equal arcs: no longer than the arc step.
+            for w in s.windows(2) {
+                prop_assert!(w[0].distance(w[1]) <= step + eps);
+            }
+        }
     }
 }
