@@ -1,0 +1,353 @@
+//! The [`Scene`]: parsing, validation, overrides, writing, and loading its hair.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use glam::Vec3;
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+use toml::de::{DeTable, ValueDeserializer};
+use tress_hair::generate::{self, Head, Style};
+use tress_hair::{HairAsset, HairError, formats};
+
+use crate::SceneError;
+use crate::error::one_line;
+use crate::overrides;
+use crate::parts::{Camera, HairSpec, HeadSpec, Light, Output, color, validate_lights};
+
+/// Names of the techniques, each with its own settings table (`[strands]`, `[volume]`, ...).
+pub const TECHNIQUES: [&str; 5] = ["strands", "volume", "hybrid", "patches", "satf"];
+
+/// A scene: camera, lights, hair assets, head, output image and technique settings.
+///
+/// Built from TOML with [`Scene::from_path`] or [`Scene::from_str`]; every key has a default
+/// (see the crate docs), so an empty file is a valid scene. Unknown keys are errors naming the
+/// key and its line.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Scene {
+    /// The technique to render with: one of [`TECHNIQUES`].
+    pub technique: String,
+    /// Background color (linear RGB).
+    pub background: Vec3,
+    /// `[camera]`.
+    pub camera: Camera,
+    /// `[[light]]`: directional lights.
+    #[serde(rename = "light")]
+    pub lights: Vec<Light>,
+    /// `[[hair]]`: the hair assets, in order.
+    pub hair: Vec<HairSpec>,
+    /// `[head]`: the head mesh.
+    pub head: HeadSpec,
+    /// `[output]`: the image size.
+    pub output: Output,
+    /// `[strands]`: settings of the strand rasterizer, read with [`Scene::technique_settings`].
+    #[serde(skip_serializing_if = "toml::Table::is_empty")]
+    pub strands: toml::Table,
+    /// `[volume]`: settings of the volume raymarcher.
+    #[serde(skip_serializing_if = "toml::Table::is_empty")]
+    pub volume: toml::Table,
+    /// `[hybrid]`: settings of the level-of-detail blend.
+    #[serde(skip_serializing_if = "toml::Table::is_empty")]
+    pub hybrid: toml::Table,
+    /// `[patches]`: settings of the polygon-patch technique.
+    #[serde(skip_serializing_if = "toml::Table::is_empty")]
+    pub patches: toml::Table,
+    /// `[satf]`: settings of the SATF technique.
+    #[serde(skip_serializing_if = "toml::Table::is_empty")]
+    pub satf: toml::Table,
+    /// Folder that relative paths (hair files, head OBJ) are resolved against: the scene file's
+    /// folder. Not part of the file.
+    #[serde(skip)]
+    pub base_dir: PathBuf,
+    /// Where the scene was read from, to position errors in technique tables.
+    #[serde(skip)]
+    origin: Origin,
+}
+
+impl Default for Scene {
+    /// Strands technique, grey background `[0.2, 0.2, 0.2]`, the default camera, the two default
+    /// lights ([`Light::default_rig`]), no hair, the generated head, 1280 × 720.
+    fn default() -> Self {
+        Scene {
+            technique: "strands".into(),
+            background: Vec3::splat(0.2),
+            camera: Camera::default(),
+            lights: Light::default_rig(),
+            hair: Vec::new(),
+            head: HeadSpec::default(),
+            output: Output::default(),
+            strands: toml::Table::new(),
+            volume: toml::Table::new(),
+            hybrid: toml::Table::new(),
+            patches: toml::Table::new(),
+            satf: toml::Table::new(),
+            base_dir: PathBuf::new(),
+            origin: Origin::default(),
+        }
+    }
+}
+
+/// The source text of a scene (and its file), kept to give line numbers for errors found later in
+/// technique tables. It takes no part in comparisons: scenes with equal contents are equal.
+#[derive(Clone, Default)]
+struct Origin {
+    path: Option<PathBuf>,
+    text: Option<Arc<str>>,
+}
+
+impl PartialEq for Origin {
+    fn eq(&self, _: &Origin) -> bool {
+        true
+    }
+}
+
+impl fmt::Debug for Origin {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Origin")
+            .field("path", &self.path)
+            .finish_non_exhaustive()
+    }
+}
+
+/// What to draw as the head (see [`HeadSpec`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum HeadSource {
+    /// No head.
+    None,
+    /// An OBJ mesh at this path (resolved against the scene's folder).
+    Obj(PathBuf),
+    /// The generated ellipsoid.
+    Generated(Head),
+}
+
+impl Scene {
+    /// Read and validate a scene file. Relative paths in it are relative to its folder. Errors
+    /// name the file.
+    pub fn from_path(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|e| SceneError::from(e).in_file(path))?;
+        let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let mut scene = Scene::from_str(&text, base_dir).map_err(|e| e.in_file(path))?;
+        scene.origin.path = Some(path.to_path_buf());
+        Ok(scene)
+    }
+
+    /// Parse and validate scene text; relative paths resolve against `base_dir`.
+    pub fn from_str(text: &str, base_dir: impl Into<PathBuf>) -> Result<Scene, SceneError> {
+        let mut scene: Scene = toml::from_str(text).map_err(|e| SceneError::from_toml(&e, text))?;
+        scene.base_dir = base_dir.into();
+        scene.origin = Origin {
+            path: None,
+            text: Some(text.into()),
+        };
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// The scene as TOML text that [`Scene::from_str`] reads back to an equal scene.
+    pub fn to_toml_string(&self) -> Result<String, SceneError> {
+        toml::to_string(self).map_err(|e| SceneError::Serialize(one_line(&e.to_string())))
+    }
+
+    /// Apply one `--set key=value` override (see the crate docs for the syntax), then validate.
+    /// On error the scene is unchanged and the error names the override.
+    pub fn apply_override(&mut self, set: &str) -> Result<(), SceneError> {
+        let fail = |reason: String| SceneError::Override {
+            set: set.to_owned(),
+            reason,
+        };
+        let (key, value) = overrides::split(set).map_err(fail)?;
+        let mut table = match toml::Value::try_from(&*self) {
+            Ok(toml::Value::Table(t)) => t,
+            Ok(_) => return Err(fail("the scene is not a table".into())),
+            Err(e) => return Err(fail(one_line(&e.to_string()))),
+        };
+        overrides::set(&mut table, key, overrides::parse_value(value)).map_err(fail)?;
+        let mut scene: Scene = toml::Value::Table(table)
+            .try_into()
+            .map_err(|e: toml::de::Error| fail(one_line(&e.to_string())))?;
+        scene.base_dir = self.base_dir.clone();
+        scene.origin = self.origin.clone();
+        scene.validate().map_err(|e| fail(e.to_string()))?;
+        *self = scene;
+        Ok(())
+    }
+
+    /// Apply several overrides in order (see [`Scene::apply_override`]).
+    pub fn apply_overrides<S: AsRef<str>>(
+        &mut self,
+        sets: impl IntoIterator<Item = S>,
+    ) -> Result<(), SceneError> {
+        sets.into_iter()
+            .try_for_each(|s| self.apply_override(s.as_ref()))
+    }
+
+    /// Check every value's range and the consistency between values. [`Scene::from_str`],
+    /// [`Scene::from_path`] and [`Scene::apply_override`] call it; call it after changing a scene
+    /// in code.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        if !TECHNIQUES.contains(&self.technique.as_str()) {
+            return Err(SceneError::invalid(
+                "technique",
+                format!(
+                    "unknown technique `{}` (expected one of: {})",
+                    self.technique,
+                    TECHNIQUES.join(", ")
+                ),
+            ));
+        }
+        color("background", self.background)?;
+        self.camera.validate()?;
+        validate_lights(&self.lights)?;
+        for (i, h) in self.hair.iter().enumerate() {
+            h.validate(&format!("hair.{i}"))?;
+        }
+        self.head.validate()?;
+        self.output.validate()
+    }
+
+    /// The settings table of a technique (one of [`TECHNIQUES`]), `None` for an unknown name.
+    pub fn technique_table(&self, name: &str) -> Option<&toml::Table> {
+        match name {
+            "strands" => Some(&self.strands),
+            "volume" => Some(&self.volume),
+            "hybrid" => Some(&self.hybrid),
+            "patches" => Some(&self.patches),
+            "satf" => Some(&self.satf),
+            _ => None,
+        }
+    }
+
+    /// Deserialize a technique's table into the technique's settings struct.
+    ///
+    /// Give `T` `#[serde(deny_unknown_fields, default)]`: then a misspelt key is an error naming
+    /// the key and, when the key came from the scene file, its line (and the file), exactly like
+    /// errors in the rest of the scene. Keys set by overrides are named without a line.
+    pub fn technique_settings<T: DeserializeOwned>(&self, name: &str) -> Result<T, SceneError> {
+        let Some(table) = self.technique_table(name) else {
+            return Err(SceneError::invalid(
+                "technique",
+                format!(
+                    "unknown technique `{name}` (expected one of: {})",
+                    TECHNIQUES.join(", ")
+                ),
+            ));
+        };
+        match toml::Value::Table(table.clone()).try_into::<T>() {
+            Ok(settings) => Ok(settings),
+            Err(plain) => Err(self
+                .locate_technique_error::<T>(name)
+                .unwrap_or_else(|| SceneError::invalid(name, one_line(&plain.to_string())))),
+        }
+    }
+
+    /// Deserialize the technique's table as written in the source text, to find the line of an
+    /// error. `None` when there is no text, no such table in it, or no error in it (the error came
+    /// from an override or a change in code).
+    fn locate_technique_error<T: DeserializeOwned>(&self, name: &str) -> Option<SceneError> {
+        let text = self.origin.text.as_deref()?;
+        let root = DeTable::parse(text).ok()?;
+        let (_, value) = root
+            .get_ref()
+            .iter()
+            .find(|(k, _)| k.get_ref().as_ref() == name)?;
+        let error = T::deserialize(ValueDeserializer::from(value.clone())).err()?;
+        let error = SceneError::from_toml(&error, text);
+        Some(match &self.origin.path {
+            Some(path) => error.in_file(path),
+            None => error,
+        })
+    }
+
+    /// A path from the scene resolved against [`Scene::base_dir`] (absolute paths are kept).
+    pub fn resolve(&self, path: &Path) -> PathBuf {
+        self.base_dir.join(path)
+    }
+
+    /// What to draw as the head: the OBJ file, the generated ellipsoid (with the centre and radii
+    /// of `[head]` or, absent, of the first generated hair entry's style), or nothing.
+    pub fn head_source(&self) -> HeadSource {
+        if let Some(obj) = &self.head.obj {
+            return HeadSource::Obj(self.resolve(obj));
+        }
+        if self.head.generated == Some(false) {
+            return HeadSource::None;
+        }
+        let base = self
+            .hair
+            .iter()
+            .filter_map(|h| h.generator.as_ref()?.style.parse::<Style>().ok())
+            .map(generate::head_for)
+            .next()
+            .unwrap_or_default();
+        HeadSource::Generated(Head {
+            center: self.head.center.unwrap_or(base.center),
+            radii: self.head.radii.unwrap_or(base.radii),
+        })
+    }
+
+    /// Read or generate every `[[hair]]` entry, in order: the files (merged) or the generator,
+    /// then follow hairs, then the `strand_ratio` subset (seed 0), then the transform (which also
+    /// scales per-vertex thickness by `scale`). Errors name the entry.
+    pub fn load_hair(&self) -> Result<Vec<HairAsset>, SceneError> {
+        self.hair
+            .iter()
+            .enumerate()
+            .map(|(index, spec)| self.load_one(spec).map_err(|e| e.at_hair(index)))
+            .collect()
+    }
+
+    fn load_one(&self, spec: &HairSpec) -> Result<HairAsset, LoadError> {
+        let mut asset = match &spec.generator {
+            Some(g) if spec.files.is_empty() => {
+                let (style, params) = g.style_params().map_err(LoadError::Scene)?;
+                generate::generate(style, &params)?
+            }
+            _ => {
+                let paths: Vec<PathBuf> = spec.files.iter().map(|p| self.resolve(p)).collect();
+                formats::read_paths(&paths)?
+            }
+        };
+        if let Some(follow) = &spec.follow {
+            asset = asset.with_follow_hairs(&follow.into())?;
+        }
+        if spec.strand_ratio < 1.0 {
+            asset = asset.subset(spec.strand_ratio, 0)?;
+        }
+        if !spec.transform.is_identity() {
+            asset.transform(spec.transform.affine())?;
+            let scale = spec.transform.scale;
+            if let Some(t) = asset.thickness().filter(|_| scale != 1.0) {
+                let scaled = t.iter().map(|x| x * scale).collect();
+                asset = asset.with_thickness(scaled)?;
+            }
+        }
+        Ok(asset)
+    }
+}
+
+/// An error while loading one hair entry, before its index is attached.
+enum LoadError {
+    Hair(HairError),
+    Scene(SceneError),
+}
+
+impl From<HairError> for LoadError {
+    fn from(e: HairError) -> Self {
+        LoadError::Hair(e)
+    }
+}
+
+impl LoadError {
+    fn at_hair(self, index: usize) -> SceneError {
+        match self {
+            LoadError::Hair(source) => SceneError::Hair { index, source },
+            LoadError::Scene(SceneError::Invalid { key, reason }) => {
+                SceneError::invalid(format!("hair.{index}.{key}"), reason)
+            }
+            LoadError::Scene(e) => e,
+        }
+    }
+}

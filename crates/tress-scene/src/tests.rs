@@ -1,0 +1,417 @@
+//! Tests of parsing, errors, overrides, technique tables, validation and writing.
+
+use std::path::PathBuf;
+
+use glam::Vec3;
+use serde::Deserialize;
+use tress_hair::generate::{Head, Style, head_for};
+
+use crate::*;
+
+fn parse(text: &str) -> Result<Scene, SceneError> {
+    Scene::from_str(text, "base")
+}
+
+/// The default scene, with the base folder `parse` gives.
+fn default_in_base() -> Scene {
+    let mut s = Scene::default();
+    s.base_dir = PathBuf::from("base");
+    s
+}
+
+/// The message of an error, asserting it is one line.
+fn message(e: SceneError) -> String {
+    let m = e.to_string();
+    assert!(!m.contains('\n'), "multi-line error: {m}");
+    m
+}
+
+#[test]
+fn empty_file_is_the_default_scene() {
+    let s = parse("").unwrap();
+    assert_eq!(s, default_in_base());
+    assert_eq!(s.lights.len(), 2);
+    assert!(s.hair.is_empty());
+    assert_eq!(s.technique, "strands");
+    Scene::default().validate().unwrap();
+}
+
+#[test]
+fn documented_defaults_are_the_defaults() {
+    let s = parse(include_str!("../doc/defaults.toml")).unwrap();
+    assert_eq!(s, default_in_base());
+}
+
+#[test]
+fn documented_hair_entry_is_the_default_entry() {
+    let s = parse(include_str!("../doc/hair.toml")).unwrap();
+    let expected = HairSpec {
+        generator: Some(GeneratorSpec::new(Style::Ponytail)),
+        ..HairSpec::default()
+    };
+    assert_eq!(s.hair, vec![expected]);
+}
+
+#[test]
+fn default_camera_frames_the_default_head() {
+    // Every corner of the default head's bounding box projects inside the image.
+    let s = Scene::default();
+    let head = Head::default();
+    let m = s.camera.clip_from_world(s.output.aspect());
+    for i in 0..8 {
+        let sign = Vec3::new(
+            if i & 1 == 0 { -1.0 } else { 1.0 },
+            if i & 2 == 0 { -1.0 } else { 1.0 },
+            if i & 4 == 0 { -1.0 } else { 1.0 },
+        );
+        let clip = m * (head.center + head.radii * sign).extend(1.0);
+        let ndc = clip.truncate() / clip.w;
+        assert!(
+            ndc.x.abs() < 1.0 && ndc.y.abs() < 1.0 && (0.0..1.0).contains(&ndc.z),
+            "{ndc}"
+        );
+    }
+}
+
+#[test]
+fn integers_are_accepted_for_floats() {
+    let s = parse("background = [1, 0, 0]\n[camera]\nfov_y_deg = 40\n").unwrap();
+    assert_eq!(s.background, Vec3::X);
+    assert_eq!(s.camera.fov_y_deg, 40.0);
+}
+
+#[test]
+fn unknown_keys_name_key_and_line() {
+    let cases = [
+        ("[camera]\nfov = 35\n", "fov", 2),
+        (
+            "technique = \"strands\"\n\nbackgroud = [0, 0, 0]\n",
+            "backgroud",
+            3,
+        ),
+        (
+            "[[light]]\nintensity = 1\n[[light]]\ncolour = [1, 1, 1]\n",
+            "colour",
+            4,
+        ),
+        (
+            "[[hair]]\ngenerator = { style = \"curly\", strandz = 5 }\n",
+            "strandz",
+            2,
+        ),
+        (
+            "[[hair]]\ngenerator = { style = \"curly\" }\n[hair.material]\n\nshine = 3\n",
+            "shine",
+            5,
+        ),
+        ("[output]\nwidth = 10\nheight = 10\ndepth = 3\n", "depth", 4),
+        ("[strandz]\nk = 8\n", "strandz", 1),
+    ];
+    for (text, key, line) in cases {
+        let m = message(parse(text).unwrap_err());
+        assert!(m.contains(&format!("`{key}`")), "{text:?}: {m}");
+        assert!(m.contains(&format!("line {line},")), "{text:?}: {m}");
+    }
+}
+
+#[test]
+fn type_and_syntax_errors_name_the_line() {
+    let m = message(parse("[camera]\nnear = 1\nfar = \"far\"\n").unwrap_err());
+    assert!(m.starts_with("line 3,"), "{m}");
+    let m = message(parse("[camera\n").unwrap_err());
+    assert!(m.starts_with("line 1,"), "{m}");
+    let m = message(parse("[[hair]]\ngenerator = { strands = 5 }\n").unwrap_err());
+    assert!(m.contains("line 2,") && m.contains("style"), "{m}");
+}
+
+#[test]
+fn file_errors_name_the_file() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("no-such-dir");
+    let m = message(Scene::from_path(dir.join("missing.toml")).unwrap_err());
+    assert!(m.contains("missing.toml"), "{m}");
+}
+
+#[test]
+fn values_are_validated() {
+    let cases = [
+        ("technique = \"raytrace\"\n", "technique"),
+        ("background = [-1, 0, 0]\n", "background"),
+        ("[camera]\nnear = 0\n", "camera.near"),
+        ("[camera]\nnear = 10\nfar = 5\n", "camera.far"),
+        ("[camera]\nfov_y_deg = 180\n", "camera.fov_y_deg"),
+        (
+            "[camera]\neye = [0, 0, 5]\ntarget = [0, 0, 5]\n",
+            "camera.target",
+        ),
+        (
+            "[camera]\neye = [0, 5, 0]\ntarget = [0, 0, 0]\n",
+            "camera.up",
+        ),
+        ("[[light]]\ndirection = [0, 0, 0]\n", "light.0.direction"),
+        (
+            "[[light]]\n[[light]]\nintensity = -1\n",
+            "light.1.intensity",
+        ),
+        ("[[hair]]\n", "hair.0"),
+        (
+            "[[hair]]\nfiles = [\"a.tfx\"]\ngenerator = { style = \"fur\" }\n",
+            "hair.0",
+        ),
+        (
+            "[[hair]]\ngenerator = { style = \"mohawk\" }\n",
+            "hair.0.generator.style",
+        ),
+        (
+            "[[hair]]\ngenerator = { style = \"fur\", vertices = 1 }\n",
+            "hair.0.generator",
+        ),
+        (
+            "[[hair]]\ngenerator = { style = \"fur\" }\nstrand_ratio = 0\n",
+            "hair.0.strand_ratio",
+        ),
+        (
+            "[[hair]]\ngenerator = { style = \"fur\" }\ntransform = { scale = 0 }\n",
+            "hair.0.transform.scale",
+        ),
+        (
+            "[[hair]]\ngenerator = { style = \"fur\" }\n[hair.material]\nprimary_exponent = 0\n",
+            "hair.0.material.primary_exponent",
+        ),
+        ("[head]\nobj = \"h.obj\"\ngenerated = true\n", "head"),
+        ("[head]\nradii = [1, 0, 1]\n", "head.radii"),
+        ("[output]\nwidth = 0\n", "output.width"),
+    ];
+    for (text, key) in cases {
+        match parse(text) {
+            Err(SceneError::Invalid { key: k, reason }) => assert_eq!(k, key, "{text:?}: {reason}"),
+            other => panic!("{text:?}: expected an error for {key}, got {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn overrides_set_values_by_dotted_key() {
+    let mut s = parse("[[hair]]\ngenerator = { style = \"wavy\" }\n").unwrap();
+    s.apply_overrides([
+        "camera.fov_y_deg=35.5",
+        "strands.k=8",
+        "light.0.intensity=2",
+        "hair.0.material.base_color=[0.3,0.2,0.1]",
+        "hair.0.generator.strands = 5000",
+        "technique=volume",
+        "head.generated=false",
+    ])
+    .unwrap();
+    assert_eq!(s.camera.fov_y_deg, 35.5);
+    assert_eq!(s.strands.get("k"), Some(&toml::Value::Integer(8)));
+    assert_eq!(s.lights[0].intensity, 2.0);
+    assert_eq!(
+        s.lights[1],
+        Light::default_rig()[1],
+        "other lights untouched"
+    );
+    assert_eq!(s.hair[0].material.base_color, Vec3::new(0.3, 0.2, 0.1));
+    assert_eq!(s.hair[0].generator.as_ref().unwrap().strands, Some(5000));
+    assert_eq!(s.technique, "volume");
+    assert_eq!(s.head_source(), HeadSource::None);
+    assert_eq!(
+        s.base_dir,
+        PathBuf::from("base"),
+        "overrides keep the base folder"
+    );
+}
+
+#[test]
+fn override_appends_array_entries() {
+    let mut s = Scene::default();
+    s.apply_override("light.2.intensity=0.5").unwrap();
+    assert_eq!(s.lights.len(), 3);
+    assert_eq!(
+        s.lights[2],
+        Light {
+            intensity: 0.5,
+            ..Light::default()
+        }
+    );
+    s.apply_override("hair.0.generator={ style = \"fur\", strands = 10 }")
+        .unwrap();
+    assert_eq!(s.hair[0].generator.as_ref().unwrap().style, "fur");
+}
+
+#[test]
+fn bad_overrides_are_errors_that_name_them_and_change_nothing() {
+    let original = parse("[[hair]]\ngenerator = { style = \"wavy\" }\n").unwrap();
+    let cases = [
+        ("camera.fov=35", "`fov`"),
+        ("light.0.intensty=2", "`intensty`"),
+        ("hair.0.material.shine=1", "`shine`"),
+        ("camera.near=-1", "camera.near"),
+        ("camera.near=close", "string"),
+        ("hair.0.generator.style=mohawk", "mohawk"),
+        ("light.9.intensity=1", "out of range"),
+        ("camera.fov_y_deg.x=1", "not a table"),
+        ("nonsense", "key=value"),
+        ("strandz.k=1", "`strandz`"),
+    ];
+    for (set, needle) in cases {
+        let mut s = original.clone();
+        let m = message(s.apply_override(set).unwrap_err());
+        assert!(m.starts_with(&format!("--set `{set}`: ")), "{m}");
+        assert!(m.contains(needle), "{set}: {m}");
+        assert_eq!(s, original, "{set} changed the scene");
+    }
+}
+
+#[derive(Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+struct StrandSettings {
+    k: u32,
+    shadow_alpha: f32,
+}
+
+#[test]
+fn technique_settings_deserialize_with_defaults() {
+    let s = parse("[strands]\nk = 16\n").unwrap();
+    let settings: StrandSettings = s.technique_settings("strands").unwrap();
+    assert_eq!(
+        settings,
+        StrandSettings {
+            k: 16,
+            shadow_alpha: 0.0
+        }
+    );
+    let volume: StrandSettings = s.technique_settings("volume").unwrap();
+    assert_eq!(volume, StrandSettings::default());
+    assert!(s.technique_settings::<StrandSettings>("raytrace").is_err());
+}
+
+#[test]
+fn technique_settings_errors_name_key_and_line() {
+    let text = "technique = \"strands\"\n\n[strands]\nk = 16\nshadow_alfa = 0.5\n";
+    let s = parse(text).unwrap();
+    let m = message(
+        s.technique_settings::<StrandSettings>("strands")
+            .unwrap_err(),
+    );
+    assert!(m.contains("`shadow_alfa`") && m.contains("line 5,"), "{m}");
+    // A wrong type too.
+    let s = parse("[strands]\n\nk = -3\n").unwrap();
+    let m = message(
+        s.technique_settings::<StrandSettings>("strands")
+            .unwrap_err(),
+    );
+    assert!(m.contains("line 3,"), "{m}");
+}
+
+#[test]
+fn technique_settings_errors_from_overrides_name_the_key() {
+    let mut s = parse("[strands]\nk = 16\n").unwrap();
+    s.apply_override("strands.kk=3").unwrap();
+    let m = message(
+        s.technique_settings::<StrandSettings>("strands")
+            .unwrap_err(),
+    );
+    assert!(m.contains("`kk`") && !m.contains("line"), "{m}");
+}
+
+#[test]
+fn toml_round_trip() {
+    let mut s = parse(
+        "technique = \"volume\"\nlight = []\n[[hair]]\nfiles = [\"x/a.tfx\", \"b.hair\"]\n\
+         follow = { count = 3 }\ntransform = { rotate_deg = [0, 90, 0] }\n\
+         [[hair]]\ngenerator = { style = \"curly\", seed = 7, length = 12.5 }\n\
+         [hair.material]\nthickness = 0.01\n[head]\nradii = [1, 2, 3]\n[volume]\nsteps = 64\n\
+         [volume.shadow]\nalpha = 0.5\n",
+    )
+    .unwrap();
+    s.apply_override("satf.layers=[1, 2]").unwrap();
+    let text = s.to_toml_string().unwrap();
+    let back = parse(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+    assert_eq!(back, s, "{text}");
+    assert!(back.lights.is_empty());
+    let back = parse(&Scene::default().to_toml_string().unwrap()).unwrap();
+    assert_eq!(back, default_in_base());
+}
+
+#[test]
+fn generator_fields_default_to_the_style() {
+    let s =
+        parse("[[hair]]\ngenerator = { style = \"curly\", strands = 12, noise = 0.5 }\n").unwrap();
+    let (style, p) = s.hair[0]
+        .generator
+        .as_ref()
+        .unwrap()
+        .style_params()
+        .unwrap();
+    assert_eq!(style, Style::Curly);
+    let d = Style::Curly.default_params();
+    assert_eq!((p.strands, p.noise), (12, 0.5));
+    assert_eq!(
+        (p.vertices, p.length, p.curl_radius, p.curl_frequency),
+        (d.vertices, d.length, d.curl_radius, d.curl_frequency)
+    );
+    assert_eq!(
+        (p.clumping, p.seed, p.thickness),
+        (d.clumping, d.seed, d.thickness)
+    );
+}
+
+#[test]
+fn transform_rotates_about_x_then_y_then_z() {
+    let t = Transform {
+        translate: Vec3::new(1.0, 2.0, 3.0),
+        rotate_deg: Vec3::new(90.0, 0.0, 90.0),
+        scale: 2.0,
+    };
+    // +y: Rx(90°) takes it to +z, Rz(90°) leaves +z; scaled by 2, then translated.
+    let p = t.affine().transform_point3(Vec3::Y);
+    assert!((p - Vec3::new(1.0, 2.0, 5.0)).length() < 1e-5, "{p}");
+    // +x: Rx leaves it, Rz(90°) takes it to +y.
+    let p = t.affine().transform_point3(Vec3::X);
+    assert!((p - Vec3::new(1.0, 4.0, 3.0)).length() < 1e-5, "{p}");
+    assert!(Transform::default().is_identity());
+}
+
+#[test]
+fn head_source_follows_the_head_table() {
+    assert_eq!(
+        Scene::default().head_source(),
+        HeadSource::Generated(Head::default())
+    );
+    let fur = parse("[[hair]]\ngenerator = { style = \"fur\" }\n").unwrap();
+    assert_eq!(
+        fur.head_source(),
+        HeadSource::Generated(head_for(Style::Fur))
+    );
+    let sized = parse("[head]\nradii = [1, 2, 3]\n").unwrap();
+    let HeadSource::Generated(h) = sized.head_source() else {
+        panic!()
+    };
+    assert_eq!(
+        (h.center, h.radii),
+        (Head::default().center, Vec3::new(1.0, 2.0, 3.0))
+    );
+    let obj = parse("[head]\nobj = \"meshes/head.obj\"\n").unwrap();
+    assert_eq!(
+        obj.head_source(),
+        HeadSource::Obj(PathBuf::from("base/meshes/head.obj"))
+    );
+    let none = parse("[head]\ngenerated = false\n").unwrap();
+    assert_eq!(none.head_source(), HeadSource::None);
+}
+
+#[test]
+fn material_converts_to_shading_parameters() {
+    let m = Material::default();
+    let h = m.hair_lighting();
+    assert_eq!(h.diffuse_color, Vec3::ONE);
+    assert_eq!(
+        (h.primary_exponent, h.secondary_shift),
+        (m.primary_exponent, m.secondary_shift)
+    );
+    let kk = m.kajiya_kay();
+    assert_eq!(
+        (kk.diffuse, kk.specular, kk.exponent),
+        (m.base_color, m.primary_color, m.primary_exponent)
+    );
+}
