@@ -234,14 +234,21 @@ impl Grower {
                 // On the upper head the comb wins over gravity; lower down, gravity does.
                 let y = ((p.y - c.y) / r.y).clamp(0.0, 0.6) / 0.6;
                 let w = y * y * (3.0 - 2.0 * y);
-                // The comb runs along the head's surface and presses the hair onto it.
-                let n = ((p - c) / (r * r)).normalize_or(Vec3::Y);
-                let comb = self.comb(p) - Vec3::Y * 0.3;
-                let along = (comb - n * comb.dot(n)).normalize_or(Vec3::NEG_Y);
-                let force = Vec3::NEG_Y * (1.0 - w) + (along * COMB_PULL - n * COMB_PRESS) * w;
+                let force = if w > 0.0 {
+                    // The comb runs along the head's surface and presses the hair onto it.
+                    let n = ((p - c) / (r * r)).normalize_or(Vec3::Y);
+                    let comb = self.comb(p) - Vec3::Y * 0.3;
+                    let along = (comb - n * comb.dot(n)).normalize_or(Vec3::NEG_Y);
+                    Vec3::NEG_Y * (1.0 - w) + (along * COMB_PULL - n * COMB_PRESS) * w
+                } else {
+                    Vec3::NEG_Y
+                };
                 dir = (dir + force * (h / HANG_BEND)).normalize_or(Vec3::NEG_Y);
-                let q = self.head.push_out(p + dir * h, MARGIN);
-                dir = (q - p).normalize_or(dir);
+                let free = p + dir * h;
+                let q = self.head.push_out(free, MARGIN);
+                if q != free {
+                    dir = (q - p).normalize_or(dir);
+                }
                 p = q;
             }
             *o = p;
