@@ -1,3 +1,61 @@
-//! The `tress` command-line tool.
+//! The `tress` command-line tool: inspect, generate, convert and render hair assets.
+//!
+//! Every error is printed as one line on stderr (`tress: <file>: <problem>`) and the process
+//! exits with status 2.
 
-fn main() {}
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+mod cmd;
+mod progress;
+
+/// tress — a hair rendering toolkit.
+#[derive(Parser, Debug)]
+#[command(name = "tress", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Print strand, vertex and segment counts, bounds and attributes of hair files (merged).
+    Info(cmd::info::Args),
+    /// Generate a procedural hair style and write it as `.hair` or `.tfx` (by extension).
+    Generate(cmd::generate::Args),
+    /// Convert between hair formats, merging inputs and optionally adding follow hairs.
+    Convert(cmd::convert::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Info(a) => cmd::info::run(a),
+        Command::Generate(a) => cmd::generate::run(a),
+        Command::Convert(a) => cmd::convert::run(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("tress: {}", one_line(&e));
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// The error and its causes on one line, without repeating a cause already in the message.
+fn one_line(e: &anyhow::Error) -> String {
+    let mut line = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if line.contains(&text) {
+            continue;
+        }
+        if !line.is_empty() {
+            line.push_str(": ");
+        }
+        line.push_str(&text);
+    }
+    line.replace('\n', " ")
+}

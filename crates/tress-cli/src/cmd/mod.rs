@@ -1,0 +1,5 @@
+//! One module per subcommand.
+
+pub(crate) mod convert;
+pub(crate) mod generate;
+pub(crate) mod info;
