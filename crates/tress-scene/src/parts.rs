@@ -32,13 +32,13 @@ pub struct Camera {
 
 impl Default for Camera {
     /// A three-quarter view from the front right of the default head (centred at the origin,
-    /// 21 units tall), looking slightly below its centre so shoulder-length hair is in frame:
-    /// eye `[30, 5, 69]`, target `[0, -6, 0]`, up `+y`, 35° vertical field of view, near 1,
+    /// 21 units tall), looking below its centre so that 30-unit hair hanging from it is in frame:
+    /// eye `[32, 4, 76]`, target `[0, -10, 0]`, up `+y`, 35° vertical field of view, near 1,
     /// far 500.
     fn default() -> Self {
         Camera {
-            eye: Vec3::new(30.0, 5.0, 69.0),
-            target: Vec3::new(0.0, -6.0, 0.0),
+            eye: Vec3::new(32.0, 4.0, 76.0),
+            target: Vec3::new(0.0, -10.0, 0.0),
             up: Vec3::Y,
             fov_y_deg: 35.0,
             near: 1.0,
