@@ -264,19 +264,20 @@ impl HairAsset {
         let mut out = vec![Vec3::Y; self.positions.len()];
         for w in self.strand_offsets.windows(2) {
             let (a, b) = (w[0] as usize, w[1] as usize);
+            let strand = &self.positions[a..b];
             let mut last = Vec3::Y;
-            for i in a..b {
-                let d = if i + 1 < b {
-                    self.positions[i + 1] - self.positions[i]
-                } else if i > a {
-                    self.positions[i] - self.positions[i - 1]
+            for (i, t_out) in out[a..b].iter_mut().enumerate() {
+                let d = if i + 1 < strand.len() {
+                    strand[i + 1] - strand[i]
+                } else if i > 0 {
+                    strand[i] - strand[i - 1]
                 } else {
                     Vec3::ZERO
                 };
                 if let Some(t) = d.try_normalize() {
                     last = t;
                 }
-                out[i] = last;
+                *t_out = last;
             }
         }
         out

@@ -35,9 +35,8 @@ impl HairAsset {
         if params.count == 0 {
             return Ok(self.clone());
         }
-        if !(params.root_radius.is_finite() && params.root_radius >= 0.0)
-            || !(params.tip_separation.is_finite() && params.tip_separation >= 0.0)
-        {
+        let valid = |x: f32| x.is_finite() && x >= 0.0;
+        if !valid(params.root_radius) || !valid(params.tip_separation) {
             return Err(HairError::Parameter(
                 "follow-hair radius and tip separation must be finite and non-negative".into(),
             ));
