@@ -1,1 +1,58 @@
 //! The wgpu renderer of tress.
+//!
+//! The library renders into **caller-provided** color and depth views: an application creates
+//! (or borrows) a [`GpuContext`], builds a [`Renderer`], uploads hair with
+//! [`Renderer::upload_hair`] and a head with [`HeadGeometry::new`], then calls
+//! [`Renderer::render`] every frame with its [`Targets`] and [`FrameInputs`]. `frame.rs` shows a
+//! whole frame top to bottom; the strand technique lives in [`strands`].
+//!
+//! ```no_run
+//! use tress_render::*;
+//! # fn main() -> Result<(), RenderError> {
+//! let ctx = GpuContext::headless()?;
+//! let mut renderer = Renderer::new(&ctx, TargetFormats::default(), StrandSettings::default())?;
+//! let targets = OffscreenTargets::new(&ctx, [256, 256], COLOR_FORMAT)?;
+//! let camera = Camera::look_at(
+//!     glam::Vec3::new(0.0, 0.0, 30.0), glam::Vec3::ZERO, glam::Vec3::Y,
+//!     0.8, 0.1, 100.0, [256, 256]);
+//! let inputs = FrameInputs {
+//!     camera,
+//!     lights: &[DirectionalLight::default()],
+//!     ambient: glam::Vec3::splat(0.1),
+//!     material: Material::default(),
+//!     hair: None,
+//!     head: None,
+//!     clear: Some(wgpu::Color::BLACK),
+//! };
+//! let stats = renderer.render(&ctx, &targets.targets(), &inputs)?;
+//! read_texture(&ctx, &targets.color)?.save_png("frame.png")?;
+//! # let _ = stats; Ok(()) }
+//! ```
+//!
+//! Conventions: right-handed world, wgpu clip space (depth 0 near, 1 far, `Less`), linear color,
+//! premultiplied alpha in the targets. Errors are typed ([`RenderError`]); nothing panics on user
+//! data or in a frame.
+
+mod bind;
+mod error;
+mod frame;
+pub mod gpu;
+pub mod head;
+mod inputs;
+pub mod shaders;
+mod stats;
+pub mod strands;
+
+pub use error::RenderError;
+pub use frame::{FrameInputs, PASS_NAMES, Renderer};
+pub use gpu::{
+    COLOR_FORMAT, ContextOptions, DEPTH_FORMAT, GpuContext, LinearImage, OffscreenTargets,
+    TargetFormats, Targets, Timings, read_texture,
+};
+pub use head::{HeadGeometry, HeadMesh};
+pub use inputs::{Camera, DirectionalLight, Material};
+pub use stats::{FrameStats, GpuReport, StatsReadback};
+pub use strands::{PpllStats, Shading, StrandGeometry, StrandSettings};
+
+/// Most directional lights a frame can have (one shadow map each).
+pub const MAX_LIGHTS: usize = 4;

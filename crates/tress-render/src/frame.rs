@@ -1,0 +1,473 @@
+//! A whole frame, top to bottom: [`Renderer::render`].
+//!
+//! ```text
+//! uniforms     camera, strand params, lights (+ their shadow cameras), material
+//! shadow       per light: head + hair depth from the light          (ShadowMap, §3.4)
+//! head         clear (optional), opaque head with depth writes      (HeadPass)
+//! ppll_build   strands -> shaded, coverage-weighted fragments lists (PpllBuild, §3.1-3.2)
+//! ppll_resolve k nearest sorted + order-independent tail, over head (PpllResolve, §3.2)
+//! readback     PPLL counters + timestamps -> FrameStats; grow the pool if fragments dropped
+//! ```
+
+use glam::Vec3;
+use wgpu::util::DeviceExt;
+
+use crate::bind::Layouts;
+use crate::gpu::types::{CameraUniform, LightsUniform, MaterialUniform, StrandParams};
+use crate::gpu::{GpuTimer, TargetFormats, Targets};
+use crate::head::{HeadGeometry, HeadPass};
+use crate::stats::{FrameStats, ReadbackRing, SlotInfo, StatsReadback};
+use crate::strands::ppll_build::PpllBuildInputs;
+use crate::strands::{
+    PpllBuild, PpllPool, PpllResolve, ShadowMap, StrandGeometry, StrandSettings, ppll,
+};
+use crate::{Camera, DirectionalLight, GpuContext, MAX_LIGHTS, Material, RenderError};
+
+/// Names of the timed passes, in frame order.
+pub const PASS_NAMES: &[&str] = &[
+    "strands/shadow",
+    "head",
+    "strands/ppll_build",
+    "strands/ppll_resolve",
+];
+
+/// Everything a frame draws. Plain data: the application owns the geometry and the targets.
+#[derive(Clone, Debug)]
+pub struct FrameInputs<'a> {
+    /// The camera; its viewport must equal the targets' size.
+    pub camera: Camera,
+    /// Directional lights (at most [`MAX_LIGHTS`]).
+    pub lights: &'a [DirectionalLight],
+    /// Ambient light, linear RGB.
+    pub ambient: Vec3,
+    /// Hair and head material.
+    pub material: Material,
+    /// The hair, if any.
+    pub hair: Option<&'a StrandGeometry>,
+    /// The opaque head mesh, if any.
+    pub head: Option<&'a HeadGeometry>,
+    /// Clear color and depth first (linear RGBA), or `None` to draw over what the targets hold.
+    pub clear: Option<wgpu::Color>,
+}
+
+/// The strand renderer with its head pass: renders into caller-provided targets.
+#[derive(Debug)]
+pub struct Renderer {
+    formats: TargetFormats,
+    settings: StrandSettings,
+    layouts: Layouts,
+    camera: wgpu::Buffer,
+    params: wgpu::Buffer,
+    lights: wgpu::Buffer,
+    material: wgpu::Buffer,
+    view_group: wgpu::BindGroup,
+    lighting_group: wgpu::BindGroup,
+    shadow: ShadowMap,
+    head_pass: HeadPass,
+    build: PpllBuild,
+    resolve: PpllResolve,
+    pool: Option<PpllPool>,
+    grown_capacity: Option<u32>,
+    timer: GpuTimer,
+    ring: ReadbackRing,
+    stats_readback: StatsReadback,
+    frame: u64,
+}
+
+fn uniform_buffer<T: bytemuck::Pod>(ctx: &GpuContext, label: &str, value: &T) -> wgpu::Buffer {
+    ctx.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytemuck::bytes_of(value),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        })
+}
+
+/// The sphere around two spheres.
+fn union_sphere(a: (Vec3, f32), b: (Vec3, f32)) -> (Vec3, f32) {
+    let d = a.0.distance(b.0);
+    if d + b.1 <= a.1 {
+        return a;
+    }
+    if d + a.1 <= b.1 {
+        return b;
+    }
+    let r = (d + a.1 + b.1) * 0.5;
+    (a.0 + (b.0 - a.0) / d * (r - a.1), r)
+}
+
+impl Renderer {
+    /// Build the pipelines for targets of `formats`, with `settings` (validated).
+    pub fn new(
+        ctx: &GpuContext,
+        formats: TargetFormats,
+        settings: StrandSettings,
+    ) -> Result<Self, RenderError> {
+        settings.validate()?;
+        let layouts = ctx.scoped("creating bind group layouts", || Layouts::new(&ctx.device))?;
+        let (camera, params, lights, material) = ctx.scoped("creating uniforms", || {
+            (
+                uniform_buffer(ctx, "frame/uniforms/camera", &CameraUniform::default()),
+                uniform_buffer(ctx, "frame/uniforms/params", &StrandParams::default()),
+                uniform_buffer(ctx, "frame/uniforms/lights", &LightsUniform::default()),
+                uniform_buffer(ctx, "frame/uniforms/material", &MaterialUniform::default()),
+            )
+        })?;
+        let view_group = ctx.scoped("creating the view bind group", || {
+            ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("frame/view/bind-group"),
+                layout: &layouts.view,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: camera.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: params.as_entire_binding(),
+                    },
+                ],
+            })
+        })?;
+        let shadow = ShadowMap::new(ctx, &layouts, &params, settings.shadow_map_size)?;
+        let lighting_group = Self::lighting_group(ctx, &layouts, &lights, &material, &shadow)?;
+        let timer = GpuTimer::new(ctx, "frame", PASS_NAMES);
+        let ring = ReadbackRing::new(ctx, &timer, 3);
+        Ok(Renderer {
+            formats,
+            head_pass: HeadPass::new(ctx, &layouts, formats.color)?,
+            build: PpllBuild::new(ctx, &layouts)?,
+            resolve: PpllResolve::new(ctx, &layouts, formats.color)?,
+            settings,
+            layouts,
+            camera,
+            params,
+            lights,
+            material,
+            view_group,
+            lighting_group,
+            shadow,
+            pool: None,
+            grown_capacity: None,
+            timer,
+            ring,
+            stats_readback: StatsReadback::Wait,
+            frame: 0,
+        })
+    }
+
+    fn lighting_group(
+        ctx: &GpuContext,
+        layouts: &Layouts,
+        lights: &wgpu::Buffer,
+        material: &wgpu::Buffer,
+        shadow: &ShadowMap,
+    ) -> Result<wgpu::BindGroup, RenderError> {
+        let mut entries = vec![
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: lights.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: material.as_entire_binding(),
+            },
+        ];
+        entries.extend(shadow.layer_views().iter().enumerate().map(|(i, v)| {
+            wgpu::BindGroupEntry {
+                binding: 2 + i as u32,
+                resource: wgpu::BindingResource::TextureView(v),
+            }
+        }));
+        ctx.scoped("creating the lighting bind group", || {
+            ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("frame/lighting/bind-group"),
+                layout: &layouts.lighting,
+                entries: &entries,
+            })
+        })
+    }
+
+    /// Upload a hair asset for this renderer (same as [`StrandGeometry::new`]).
+    pub fn upload_hair(
+        &self,
+        ctx: &GpuContext,
+        asset: &tress_hair::HairAsset,
+    ) -> Result<StrandGeometry, RenderError> {
+        StrandGeometry::with_layout(ctx, &self.layouts.strands, asset)
+    }
+
+    /// The current settings.
+    pub fn settings(&self) -> &StrandSettings {
+        &self.settings
+    }
+
+    /// Change settings (validated). A new shadow map size reallocates the maps; new pool settings
+    /// resize the PPLL at the next frame.
+    pub fn set_settings(
+        &mut self,
+        ctx: &GpuContext,
+        settings: StrandSettings,
+    ) -> Result<(), RenderError> {
+        settings.validate()?;
+        if settings.shadow_map_size != self.shadow.size() {
+            let shadow =
+                ShadowMap::new(ctx, &self.layouts, &self.params, settings.shadow_map_size)?;
+            self.lighting_group =
+                Self::lighting_group(ctx, &self.layouts, &self.lights, &self.material, &shadow)?;
+            self.shadow = shadow;
+        }
+        if settings.ppll_nodes_per_pixel != self.settings.ppll_nodes_per_pixel
+            || settings.ppll_max_bytes != self.settings.ppll_max_bytes
+        {
+            self.pool = None;
+            self.grown_capacity = None;
+        }
+        self.settings = settings;
+        Ok(())
+    }
+
+    /// How `render` reports GPU results (default [`StatsReadback::Wait`]).
+    pub fn set_stats_readback(&mut self, mode: StatsReadback) {
+        self.stats_readback = mode;
+    }
+
+    /// Render one frame into `targets` and submit it on `ctx.queue`.
+    pub fn render(
+        &mut self,
+        ctx: &GpuContext,
+        targets: &Targets<'_>,
+        inputs: &FrameInputs<'_>,
+    ) -> Result<FrameStats, RenderError> {
+        // ---- validate inputs (never panic on user data)
+        let size = targets.validate(self.formats)?;
+        inputs.camera.validate()?;
+        if inputs.camera.viewport != size {
+            return Err(RenderError::Target(format!(
+                "camera viewport {:?} differs from the target size {size:?}",
+                inputs.camera.viewport
+            )));
+        }
+        if inputs.lights.len() > MAX_LIGHTS {
+            return Err(RenderError::Invalid(format!(
+                "{} lights given, at most {MAX_LIGHTS} supported",
+                inputs.lights.len()
+            )));
+        }
+        inputs.material.validate()?;
+        if !inputs.ambient.is_finite() {
+            return Err(RenderError::Invalid("ambient light is not finite".into()));
+        }
+
+        // ---- results of earlier frames: statistics, pool growth
+        let mut report = self.ring.harvest(ctx, &self.timer)?;
+        self.grow_pool_from(ctx, report.as_ref());
+
+        // ---- PPLL buffers for this target size and capacity
+        let cap_nodes = PpllPool::cap_nodes(ctx, self.settings.ppll_max_bytes);
+        let pixels = u64::from(size[0]) * u64::from(size[1]);
+        let capacity = self.grown_capacity.unwrap_or_else(|| {
+            ppll::initial_capacity(pixels, self.settings.ppll_nodes_per_pixel, cap_nodes)
+        });
+        if self
+            .pool
+            .as_ref()
+            .is_none_or(|p| p.size != size || p.capacity != capacity)
+        {
+            self.pool = None;
+            self.pool = Some(PpllPool::new(ctx, size, capacity)?);
+        }
+        let Some(pool) = self.pool.as_ref() else {
+            return Err(RenderError::Invalid("PPLL pool missing".into()));
+        };
+
+        // ---- uniforms
+        let hair = inputs.hair.filter(|h| h.segment_count() > 0);
+        let bounds = match (inputs.hair.map(|h| h.bounds), inputs.head.map(|h| h.bounds)) {
+            (Some(a), Some(b)) => Some(union_sphere(a, b)),
+            (a, b) => a.or(b),
+        };
+        let mut lights = LightsUniform {
+            ambient: inputs.ambient.to_array(),
+            count: inputs.lights.len() as u32,
+            ..Default::default()
+        };
+        let mut light_cameras = Vec::new();
+        for (i, light) in inputs.lights.iter().enumerate() {
+            let (center, radius) = bounds.unwrap_or((Vec3::ZERO, 1.0));
+            let (cam, range) = light.shadow_camera(center, radius, self.shadow.size())?;
+            lights.lights[i] = light.uniform(cam.clip_from_world(), range)?;
+            light_cameras.push(cam.uniform());
+        }
+        let mut params = self.settings.params();
+        params.node_capacity = pool.capacity;
+        params.target_width = size[0];
+        params.light_count = lights.count;
+        params.thickness_fade =
+            u32::from(self.settings.thickness_fade && hair.is_some_and(|h| h.has_thickness()));
+        params.vertex_color = u32::from(hair.is_some_and(|h| h.has_color()));
+        params.hair_center = inputs.hair.map_or([0.0; 3], |h| h.bounds.0.to_array());
+        let q = &ctx.queue;
+        q.write_buffer(
+            &self.camera,
+            0,
+            bytemuck::bytes_of(&inputs.camera.uniform()),
+        );
+        q.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        q.write_buffer(&self.lights, 0, bytemuck::bytes_of(&lights));
+        q.write_buffer(
+            &self.material,
+            0,
+            bytemuck::bytes_of(&inputs.material.uniform()),
+        );
+
+        let frame = self.frame;
+        self.frame += 1;
+        let slot = self.ring.idle();
+        let shadows = self.settings.shadows && !light_cameras.is_empty() && bounds.is_some();
+        let timer = &mut self.timer;
+        let (shadow, head_pass, build, resolve) =
+            (&self.shadow, &self.head_pass, &self.build, &self.resolve);
+        let (view, lighting) = (&self.view_group, &self.lighting_group);
+        let ring = &mut self.ring;
+        ctx.scoped("rendering a frame", || {
+            timer.begin_frame();
+            let mut encoder = ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("frame/encoder"),
+                });
+            // ---- shadow maps (§3.4)
+            if shadows {
+                shadow.encode(ctx, &mut encoder, timer, &light_cameras, hair, inputs.head);
+            }
+            // ---- opaque head, depth written
+            {
+                let (color_load, depth_load) = match inputs.clear {
+                    Some(c) => (wgpu::LoadOp::Clear(c), wgpu::LoadOp::Clear(1.0)),
+                    None => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+                };
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("head/head_pass/pass"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: targets.color,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: color_load,
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: targets.depth,
+                        depth_ops: Some(wgpu::Operations {
+                            load: depth_load,
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: timer.render_writes("head", true, true),
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                if let Some(head) = inputs.head {
+                    pass.set_bind_group(0, view, &[]);
+                    pass.set_bind_group(1, lighting, &[]);
+                    head_pass.draw(&mut pass, head);
+                }
+            }
+            // ---- strands: PPLL build and resolve (§3.1-3.2)
+            if let Some(geometry) = hair {
+                let inputs = PpllBuildInputs {
+                    view,
+                    lighting,
+                    geometry,
+                    pool,
+                    depth: targets.depth,
+                };
+                build.encode(
+                    ctx,
+                    &mut encoder,
+                    &inputs,
+                    timer.render_writes("strands/ppll_build", true, true),
+                );
+                resolve.encode(
+                    ctx,
+                    &mut encoder,
+                    view,
+                    pool,
+                    targets.color,
+                    timer.render_writes("strands/ppll_resolve", true, true),
+                );
+            }
+            // ---- statistics readback
+            if let Some(i) = slot {
+                let info = SlotInfo {
+                    frame,
+                    capacity: pool.capacity,
+                    head_bytes: PpllPool::head_bytes(size),
+                    counters: hair.is_some(),
+                };
+                let counters = hair.map(|_| &pool.counters);
+                ring.record(i, &mut encoder, counters, timer, info);
+            }
+            ctx.queue.submit([encoder.finish()]);
+            if let Some(i) = slot {
+                ring.map(i);
+            }
+        })?;
+
+        if let (StatsReadback::Wait, Some(i)) = (self.stats_readback, slot) {
+            report = self.ring.wait(ctx, &self.timer, i)?.or(report);
+            self.grow_pool_from(ctx, report.as_ref());
+        }
+        Ok(FrameStats {
+            frame,
+            size,
+            segments: hair.map_or(0, |h| h.segment_count()),
+            ppll_capacity: pool_capacity(self.pool.as_ref()),
+            ppll_bytes: self.pool.as_ref().map_or(0, |p| {
+                u64::from(p.capacity) * ppll::NODE_BYTES + PpllPool::head_bytes(p.size)
+            }),
+            gpu: report,
+        })
+    }
+
+    fn grow_pool_from(&mut self, ctx: &GpuContext, report: Option<&crate::stats::GpuReport>) {
+        let Some(r) = report.filter(|r| r.ppll.dropped > 0) else {
+            return;
+        };
+        let Some(pool) = &self.pool else {
+            return;
+        };
+        let cap = PpllPool::cap_nodes(ctx, self.settings.ppll_max_bytes);
+        let grown = ppll::grown_capacity(pool.capacity, r.ppll.requested, cap);
+        if grown > pool.capacity {
+            tracing::debug!(
+                from = pool.capacity,
+                to = grown,
+                "growing the PPLL node pool"
+            );
+            self.grown_capacity = Some(grown);
+        }
+    }
+}
+
+fn pool_capacity(pool: Option<&PpllPool>) -> u32 {
+    pool.map_or(0, |p| p.capacity)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn union_sphere_contains_both() {
+        let a = (Vec3::ZERO, 1.0);
+        let b = (Vec3::new(4.0, 0.0, 0.0), 1.0);
+        let (c, r) = union_sphere(a, b);
+        assert!((c - Vec3::new(2.0, 0.0, 0.0)).length() < 1e-6 && (r - 3.0).abs() < 1e-6);
+        assert_eq!(union_sphere(a, (Vec3::ZERO, 0.5)), a);
+        assert_eq!(union_sphere((Vec3::ZERO, 0.5), a), a);
+    }
+}

@@ -1,0 +1,173 @@
+//! Render targets: the caller's views ([`Targets`]) and an offscreen pair for headless rendering
+//! ([`OffscreenTargets`]).
+
+use crate::{GpuContext, RenderError};
+
+/// Default color format of offscreen targets: linear half floats. Hair is many thin, partly
+/// transparent layers blended together, so blending in linear space with more than 8 bits per
+/// channel avoids banding in dark hair; readback converts to 8-bit sRGB for PNG and keeps full
+/// precision for EXR. Applications may render into any blendable color format instead (for
+/// example an `Rgba8UnormSrgb` or `Bgra8UnormSrgb` swapchain view): pass it in [`TargetFormats`].
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// Depth format the renderer needs: 32-bit float, depth 0 near and 1 far, cleared to 1, compared
+/// with `Less`. The strand passes read it as a texture, so caller depth textures need
+/// `TEXTURE_BINDING` usage besides `RENDER_ATTACHMENT`.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The formats the renderer's pipelines are built for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TargetFormats {
+    /// Color attachment format (must be blendable and renderable).
+    pub color: wgpu::TextureFormat,
+}
+
+impl Default for TargetFormats {
+    fn default() -> Self {
+        TargetFormats {
+            color: COLOR_FORMAT,
+        }
+    }
+}
+
+/// Caller-provided views the renderer draws into. Both must have the same size; the depth
+/// texture must be [`DEPTH_FORMAT`] with `RENDER_ATTACHMENT | TEXTURE_BINDING` usage.
+#[derive(Clone, Copy, Debug)]
+pub struct Targets<'a> {
+    /// Color view (format as given to the renderer).
+    pub color: &'a wgpu::TextureView,
+    /// Depth view.
+    pub depth: &'a wgpu::TextureView,
+}
+
+impl Targets<'_> {
+    /// Check formats, usages and sizes; returns the size in pixels.
+    pub fn validate(&self, formats: TargetFormats) -> Result<[u32; 2], RenderError> {
+        let color = self.color.texture();
+        let depth = self.depth.texture();
+        if color.format() != formats.color {
+            return Err(RenderError::Target(format!(
+                "color target is {:?} but the renderer was built for {:?}",
+                color.format(),
+                formats.color
+            )));
+        }
+        if !color
+            .usage()
+            .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
+        {
+            return Err(RenderError::Target(
+                "color target lacks RENDER_ATTACHMENT usage".into(),
+            ));
+        }
+        if depth.format() != DEPTH_FORMAT {
+            return Err(RenderError::Target(format!(
+                "depth target is {:?}, expected {DEPTH_FORMAT:?}",
+                depth.format()
+            )));
+        }
+        let need = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        if !depth.usage().contains(need) {
+            return Err(RenderError::Target(
+                "depth target needs RENDER_ATTACHMENT | TEXTURE_BINDING usage".into(),
+            ));
+        }
+        if color.sample_count() != 1 || depth.sample_count() != 1 {
+            return Err(RenderError::Target(
+                "multisampled targets are not supported".into(),
+            ));
+        }
+        let size = [color.width(), color.height()];
+        if size != [depth.width(), depth.height()] {
+            return Err(RenderError::Target(format!(
+                "color is {}x{} but depth is {}x{}",
+                size[0],
+                size[1],
+                depth.width(),
+                depth.height()
+            )));
+        }
+        Ok(size)
+    }
+}
+
+/// An offscreen color + depth pair for headless rendering and readback.
+#[derive(Debug)]
+pub struct OffscreenTargets {
+    /// Color texture (`COPY_SRC` so it can be read back).
+    pub color: wgpu::Texture,
+    /// Depth texture.
+    pub depth: wgpu::Texture,
+    /// View of `color`.
+    pub color_view: wgpu::TextureView,
+    /// View of `depth`.
+    pub depth_view: wgpu::TextureView,
+}
+
+impl OffscreenTargets {
+    /// Create targets of `size` pixels in `format` (use [`COLOR_FORMAT`] unless you need another).
+    pub fn new(
+        ctx: &GpuContext,
+        size: [u32; 2],
+        format: wgpu::TextureFormat,
+    ) -> Result<Self, RenderError> {
+        let max = ctx.caps.max_texture_2d;
+        if size[0] == 0 || size[1] == 0 || size[0] > max || size[1] > max {
+            return Err(RenderError::Invalid(format!(
+                "target size {}x{} is outside 1..={max}",
+                size[0], size[1]
+            )));
+        }
+        let extent = wgpu::Extent3d {
+            width: size[0],
+            height: size[1],
+            depth_or_array_layers: 1,
+        };
+        ctx.scoped("creating offscreen targets", || {
+            let color = ctx.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("frame/offscreen/color"),
+                size: extent,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::COPY_SRC
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            });
+            let depth = ctx.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("frame/offscreen/depth"),
+                size: extent,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: DEPTH_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            });
+            let color_view = color.create_view(&Default::default());
+            let depth_view = depth.create_view(&Default::default());
+            OffscreenTargets {
+                color,
+                depth,
+                color_view,
+                depth_view,
+            }
+        })
+    }
+
+    /// The views as [`Targets`].
+    pub fn targets(&self) -> Targets<'_> {
+        Targets {
+            color: &self.color_view,
+            depth: &self.depth_view,
+        }
+    }
+
+    /// Size in pixels.
+    pub fn size(&self) -> [u32; 2] {
+        [self.color.width(), self.color.height()]
+    }
+}

@@ -1,0 +1,197 @@
+//! GPU timestamp queries: one begin/end pair per named pass, written through the passes'
+//! `timestamp_writes` when the device has `TIMESTAMP_QUERY`.
+
+use std::fmt;
+
+use crate::GpuContext;
+
+/// GPU time of one pass.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PassTiming {
+    /// Pass name (`strands/shadow`, `head`, `strands/ppll_build`, `strands/ppll_resolve`).
+    pub name: &'static str,
+    /// Milliseconds between the pass's begin and end timestamps.
+    pub ms: f64,
+}
+
+/// Per-pass GPU times of a frame.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub enum Timings {
+    /// The device has no timestamp queries.
+    #[default]
+    NotSupported,
+    /// One entry per pass that ran, in order.
+    Passes(Vec<PassTiming>),
+}
+
+impl Timings {
+    /// Milliseconds of the pass called `name`, if it ran and was timed.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        match self {
+            Timings::NotSupported => None,
+            Timings::Passes(p) => p.iter().find(|t| t.name == name).map(|t| t.ms),
+        }
+    }
+
+    /// Sum over all timed passes.
+    pub fn total_ms(&self) -> Option<f64> {
+        match self {
+            Timings::NotSupported => None,
+            Timings::Passes(p) => Some(p.iter().map(|t| t.ms).sum()),
+        }
+    }
+}
+
+impl fmt::Display for Timings {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Timings::NotSupported => write!(f, "GPU timestamps: not supported by this device"),
+            Timings::Passes(p) => {
+                for (i, t) in p.iter().enumerate() {
+                    if i > 0 {
+                        write!(f, ", ")?;
+                    }
+                    write!(f, "{} {:.3} ms", t.name, t.ms)?;
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// A query set with two timestamps per pass and the buffer they resolve into.
+#[derive(Debug)]
+pub(crate) struct GpuTimer {
+    queries: Option<(wgpu::QuerySet, wgpu::Buffer)>,
+    names: &'static [&'static str],
+    written: Vec<bool>,
+    period_ns: f64,
+}
+
+impl GpuTimer {
+    /// Bytes the resolved timestamps occupy (copied into a frame's readback buffer).
+    pub(crate) fn resolved_bytes(&self) -> u64 {
+        self.names.len() as u64 * 16
+    }
+
+    pub(crate) fn new(ctx: &GpuContext, label: &str, names: &'static [&'static str]) -> Self {
+        let queries = ctx.caps.timestamps.then(|| {
+            let count = names.len() as u32 * 2;
+            let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some(&format!("{label}/timestamps")),
+                ty: wgpu::QueryType::Timestamp,
+                count,
+            });
+            let resolve = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(&format!("{label}/timestamps-resolve")),
+                size: u64::from(count) * 8,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            (set, resolve)
+        });
+        GpuTimer {
+            queries,
+            names,
+            written: vec![false; names.len()],
+            period_ns: f64::from(ctx.queue.get_timestamp_period()),
+        }
+    }
+
+    /// Forget which passes were written (call at the start of a frame).
+    pub(crate) fn begin_frame(&mut self) {
+        self.written.iter_mut().for_each(|w| *w = false);
+    }
+
+    fn index(&self, name: &str) -> Option<usize> {
+        self.names.iter().position(|n| *n == name)
+    }
+
+    /// Timestamp writes for a render pass. `begin`/`end` select which of the pass's two
+    /// timestamps this render pass writes (a pass split over several render passes, like one
+    /// shadow map per light, writes begin in the first and end in the last).
+    pub(crate) fn render_writes(
+        &mut self,
+        name: &str,
+        begin: bool,
+        end: bool,
+    ) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let i = self.index(name)?;
+        let (set, _) = self.queries.as_ref()?;
+        if end {
+            self.written[i] = true;
+        }
+        Some(wgpu::RenderPassTimestampWrites {
+            query_set: set,
+            beginning_of_pass_write_index: begin.then_some(2 * i as u32),
+            end_of_pass_write_index: end.then_some(2 * i as u32 + 1),
+        })
+    }
+
+    /// Resolve the queries and copy them to `dst` at `offset` (`resolved_bytes` bytes).
+    pub(crate) fn resolve(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        dst: &wgpu::Buffer,
+        offset: u64,
+    ) {
+        if let Some((set, resolve)) = &self.queries {
+            let count = self.names.len() as u32 * 2;
+            encoder.resolve_query_set(set, 0..count, resolve, 0);
+            encoder.copy_buffer_to_buffer(resolve, 0, dst, offset, Some(u64::from(count) * 8));
+        }
+    }
+
+    /// Which passes were written this frame.
+    pub(crate) fn written(&self) -> Vec<bool> {
+        self.written.clone()
+    }
+
+    /// Turn resolved timestamps into timings, keeping the passes flagged in `written`.
+    pub(crate) fn parse(&self, bytes: &[u8], written: &[bool]) -> Timings {
+        if self.queries.is_none() {
+            return Timings::NotSupported;
+        }
+        let ts = |i: usize| {
+            let b = &bytes[i * 8..i * 8 + 8];
+            u64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]])
+        };
+        let passes = self
+            .names
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| {
+                written.get(*i).copied().unwrap_or(false) && bytes.len() >= (i + 1) * 16
+            })
+            .map(|(i, name)| PassTiming {
+                name,
+                ms: ts(2 * i + 1).saturating_sub(ts(2 * i)) as f64 * self.period_ns * 1e-6,
+            })
+            .collect();
+        Timings::Passes(passes)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn display_says_not_supported() {
+        assert!(Timings::NotSupported.to_string().contains("not supported"));
+        let t = Timings::Passes(vec![
+            PassTiming {
+                name: "head",
+                ms: 1.0,
+            },
+            PassTiming {
+                name: "strands/ppll_build",
+                ms: 2.5,
+            },
+        ]);
+        assert_eq!(t.get("head"), Some(1.0));
+        assert_eq!(t.get("other"), None);
+        assert_eq!(t.total_ms(), Some(3.5));
+        assert_eq!(t.to_string(), "head 1.000 ms, strands/ppll_build 2.500 ms");
+    }
+}

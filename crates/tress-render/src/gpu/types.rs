@@ -1,0 +1,194 @@
+//! Every GPU-visible struct, mirrored from WGSL: `#[repr(C)]` bytemuck `Pod` types with explicit
+//! padding, uniforms included (encase 0.13 has no glam support). The test
+//! `tests/layout.rs` parses the WGSL with naga and checks each struct's size and member offsets
+//! against these (design rule 3). Field names are the WGSL names.
+
+use bytemuck::{Pod, Zeroable};
+
+/// A column-major 4x4 matrix as WGSL `mat4x4<f32>`.
+pub type Mat4Gpu = [[f32; 4]; 4];
+
+/// `struct Camera` in `shaders/common/camera.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct CameraUniform {
+    /// Clip from world.
+    pub clip_from_world: Mat4Gpu,
+    /// Eye position.
+    pub eye: [f32; 3],
+    /// Pixels covered by one world unit at clip w = 1.
+    pub pixels_per_unit: f32,
+    /// Viewport size in pixels.
+    pub viewport: [f32; 2],
+    /// 1 for orthographic.
+    pub orthographic: u32,
+    /// Padding.
+    pub _pad0: u32,
+    /// Unit view direction.
+    pub forward: [f32; 3],
+    /// Padding.
+    pub _pad1: f32,
+}
+
+/// `struct DirectionalLight` in `shaders/common/lights.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct LightUniform {
+    /// Orthographic shadow projection.
+    pub light_from_world: Mat4Gpu,
+    /// Unit vector towards the light.
+    pub to_light: [f32; 3],
+    /// Intensity multiplier.
+    pub intensity: f32,
+    /// Linear RGB color.
+    pub color: [f32; 3],
+    /// World length of the shadow depth range.
+    pub depth_range: f32,
+}
+
+/// `struct Lights` in `shaders/common/lights.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct LightsUniform {
+    /// Ambient light.
+    pub ambient: [f32; 3],
+    /// Number of valid entries in `lights`.
+    pub count: u32,
+    /// The lights.
+    pub lights: [LightUniform; crate::MAX_LIGHTS],
+}
+
+/// `struct StrandVertex` in `shaders/common/strand.wgsl` (storage array element).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct StrandVertex {
+    /// World position.
+    pub position: [f32; 3],
+    /// Diameter in world units (0: none).
+    pub thickness: f32,
+    /// Linear RGB.
+    pub color: [f32; 3],
+    /// 1 - transparency.
+    pub alpha: f32,
+}
+
+/// `struct StrandParams` in `shaders/common/strand.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct StrandParams {
+    /// Quad width in pixels.
+    pub width_px: f32,
+    /// Strand alpha multiplier.
+    pub alpha: f32,
+    /// Sorted fragments per pixel in the resolve.
+    pub k: u32,
+    /// 0 Kajiya-Kay, 1 Scheuermann.
+    pub shading: u32,
+    /// 1: multiply alpha by the §3.2 coverage.
+    pub coverage: u32,
+    /// 1: scale alpha by the projected thickness (`tip_fade`).
+    pub thickness_fade: u32,
+    /// 1: vertex colors replace the material's base color.
+    pub vertex_color: u32,
+    /// PPLL node capacity.
+    pub node_capacity: u32,
+    /// ADSM `r` in strands per normalized light depth (per light it is scaled by its range).
+    pub shadow_r: f32,
+    /// ADSM `alpha`.
+    pub shadow_alpha: f32,
+    /// PCF kernel radius in texels.
+    pub pcf_radius: i32,
+    /// Depth bias in world units.
+    pub shadow_bias: f32,
+    /// Shadow map edge in texels.
+    pub shadow_map_size: f32,
+    /// Strand width in the shadow map, in texels.
+    pub shadow_width_px: f32,
+    /// Width of the color target (PPLL head index = y * width + x).
+    pub target_width: u32,
+    /// 1: shadows on.
+    pub shadows: u32,
+    /// Centre of the hair's bounds (Scheuermann normals point away from it).
+    pub hair_center: [f32; 3],
+    /// Number of lights.
+    pub light_count: u32,
+}
+
+/// `struct HairLighting` in `shaders/common/shading.wgsl` (twin of `tress_shading::HairLighting`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct HairLightingGpu {
+    /// Diffuse multiplier.
+    pub diffuse_color: [f32; 3],
+    /// Primary highlight exponent.
+    pub primary_exponent: f32,
+    /// Primary highlight color.
+    pub primary_color: [f32; 3],
+    /// Primary tangent shift.
+    pub primary_shift: f32,
+    /// Secondary highlight color.
+    pub secondary_color: [f32; 3],
+    /// Secondary highlight exponent.
+    pub secondary_exponent: f32,
+    /// Secondary tangent shift.
+    pub secondary_shift: f32,
+    /// Padding to the struct's 16-byte alignment.
+    pub _pad: [f32; 3],
+}
+
+/// `struct Material` in `shaders/common/material.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct MaterialUniform {
+    /// Scheuermann constants (Kajiya-Kay uses the primary color and exponent).
+    pub lighting: HairLightingGpu,
+    /// Hair base color.
+    pub base_color: [f32; 3],
+    /// Padding.
+    pub _pad0: f32,
+    /// Head mesh color.
+    pub head_color: [f32; 3],
+    /// Padding.
+    pub _pad1: f32,
+}
+
+/// `struct PpllNode` in `shaders/common/ppll.wgsl`: one stored fragment.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct PpllNode {
+    /// Straight linear RGB, RGB9E5-packed.
+    pub color: u32,
+    /// Opacity times coverage.
+    pub alpha: f32,
+    /// Fragment depth (0 near, 1 far).
+    pub depth: f32,
+    /// Index + 1 of the next node of the pixel's list; 0 ends it.
+    pub next: u32,
+}
+
+/// `struct PpllCounters` in `strands/ppll_build.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct PpllCounters {
+    /// Nodes requested this frame (may exceed the capacity; those beyond were dropped).
+    pub requested: u32,
+    /// Fragments dropped because the pool was full.
+    pub dropped: u32,
+    /// Padding.
+    pub _pad: [u32; 2],
+}
+
+/// A vertex of the head mesh (vertex buffer, locations 0 and 1 of `head/head_pass.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct HeadVertex {
+    /// World position.
+    pub position: [f32; 3],
+    /// Unit normal.
+    pub normal: [f32; 3],
+}
+
+/// Convert a glam matrix for upload.
+pub fn mat4(m: glam::Mat4) -> Mat4Gpu {
+    m.to_cols_array_2d()
+}

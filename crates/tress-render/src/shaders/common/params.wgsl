@@ -1,0 +1,26 @@
+// Per-frame settings of the strand technique, shared by every pass of a frame.
+
+// Per-frame strand settings (mirrored by `gpu::types::StrandParams`).
+struct StrandParams {
+    width_px: f32,
+    alpha: f32,
+    k: u32,
+    shading: u32,
+    coverage: u32,
+    thickness_fade: u32,
+    vertex_color: u32,
+    node_capacity: u32,
+    shadow_r: f32,
+    shadow_alpha: f32,
+    pcf_radius: i32,
+    shadow_bias: f32,
+    shadow_map_size: f32,
+    shadow_width_px: f32,
+    target_width: u32,
+    shadows: u32,
+    hair_center: vec3<f32>,
+    light_count: u32,
+}
+
+const SHADING_KAJIYA_KAY: u32 = 0u;
+const SHADING_SCHEUERMANN: u32 = 1u;

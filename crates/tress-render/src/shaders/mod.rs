@@ -1,0 +1,163 @@
+//! WGSL sources and their composition.
+//!
+//! Every `.wgsl` file of the crate is embedded here under its path relative to `src/`. A file may
+//! pull in another with a line of the form
+//!
+//! ```text
+//! #include "common/camera.wgsl"
+//! ```
+//!
+//! [`compose`] replaces such lines by the included file's (recursively composed) text, each file
+//! at most once per composed module, so shared modules can include what they need without
+//! duplicate definitions. Nothing else is preprocessed: what a pass runs is plain WGSL.
+
+use std::collections::HashSet;
+
+use crate::RenderError;
+
+/// Every WGSL file of the crate: `(path relative to src/, source)`.
+pub const SOURCES: &[(&str, &str)] = &[
+    ("common/camera.wgsl", include_str!("common/camera.wgsl")),
+    ("common/lights.wgsl", include_str!("common/lights.wgsl")),
+    ("common/lighting.wgsl", include_str!("common/lighting.wgsl")),
+    ("common/params.wgsl", include_str!("common/params.wgsl")),
+    ("common/shading.wgsl", include_str!("common/shading.wgsl")),
+    ("common/ppll.wgsl", include_str!("common/ppll.wgsl")),
+    ("common/strand.wgsl", include_str!("common/strand.wgsl")),
+    (
+        "common/fullscreen.wgsl",
+        include_str!("common/fullscreen.wgsl"),
+    ),
+    (
+        "head/head_pass.wgsl",
+        include_str!("../head/head_pass.wgsl"),
+    ),
+    (
+        "strands/shadow.wgsl",
+        include_str!("../strands/shadow.wgsl"),
+    ),
+    (
+        "strands/ppll_build.wgsl",
+        include_str!("../strands/ppll_build.wgsl"),
+    ),
+    (
+        "strands/ppll_resolve.wgsl",
+        include_str!("../strands/ppll_resolve.wgsl"),
+    ),
+];
+
+/// The modules pipelines are created from (every other file is only included).
+pub const ENTRY_MODULES: &[&str] = &[
+    "head/head_pass.wgsl",
+    "strands/shadow.wgsl",
+    "strands/ppll_build.wgsl",
+    "strands/ppll_resolve.wgsl",
+];
+
+/// The source of the file at `path`, if the crate has it.
+pub fn source(path: &str) -> Option<&'static str> {
+    SOURCES.iter().find(|(p, _)| *p == path).map(|(_, s)| *s)
+}
+
+/// The composed text of the crate's module at `path` (see the module docs).
+pub fn compose(path: &str) -> Result<String, RenderError> {
+    let src = source(path).ok_or_else(|| RenderError::Shader {
+        module: path.to_string(),
+        message: "no such WGSL module".into(),
+    })?;
+    let mut seen = HashSet::from([path.to_string()]);
+    let mut out = String::new();
+    expand(path, src, &mut seen, &mut out)?;
+    Ok(out)
+}
+
+/// Compose WGSL text from outside the crate (e.g. a test harness) whose `#include` lines name the
+/// crate's files.
+pub fn compose_source(name: &str, src: &str) -> Result<String, RenderError> {
+    let mut seen = HashSet::new();
+    let mut out = String::new();
+    expand(name, src, &mut seen, &mut out)?;
+    Ok(out)
+}
+
+fn expand(
+    name: &str,
+    src: &str,
+    seen: &mut HashSet<String>,
+    out: &mut String,
+) -> Result<(), RenderError> {
+    for line in src.lines() {
+        let Some(rest) = line.trim_start().strip_prefix("#include") else {
+            out.push_str(line);
+            out.push('\n');
+            continue;
+        };
+        let target = rest
+            .trim()
+            .strip_prefix('"')
+            .and_then(|r| r.strip_suffix('"'))
+            .ok_or_else(|| RenderError::Shader {
+                module: name.to_string(),
+                message: format!("malformed include line `{line}`"),
+            })?;
+        if !seen.insert(target.to_string()) {
+            continue;
+        }
+        let inc = source(target).ok_or_else(|| RenderError::Shader {
+            module: name.to_string(),
+            message: format!("includes unknown module `{target}`"),
+        })?;
+        out.push_str(&format!("// ---- begin {target}\n"));
+        expand(target, inc, seen, out)?;
+        out.push_str(&format!("// ---- end {target}\n"));
+    }
+    Ok(())
+}
+
+/// Create a shader module from a composed crate module, labelled `label`.
+pub(crate) fn create_module(
+    ctx: &crate::GpuContext,
+    path: &str,
+    label: &str,
+) -> Result<wgpu::ShaderModule, RenderError> {
+    let text = compose(path)?;
+    ctx.scoped(&format!("compiling {path}"), || {
+        ctx.device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Wgsl(text.into()),
+            })
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn includes_are_expanded_once() {
+        let text = compose_source(
+            "test",
+            "#include \"common/camera.wgsl\"\n#include \"common/camera.wgsl\"\nfn f() {}\n",
+        )
+        .expect("composes");
+        assert_eq!(text.matches("// ---- begin common/camera.wgsl").count(), 1);
+        assert!(text.ends_with("fn f() {}\n"));
+    }
+
+    #[test]
+    fn unknown_and_malformed_includes_are_errors() {
+        let e = compose_source("t", "#include \"nope.wgsl\"\n").expect_err("unknown");
+        assert!(e.to_string().contains("nope.wgsl"));
+        assert!(compose_source("t", "#include nope\n").is_err());
+        assert!(compose("missing.wgsl").is_err());
+    }
+
+    #[test]
+    fn every_listed_module_exists_and_composes() {
+        for path in ENTRY_MODULES {
+            let text = compose(path).expect("composes");
+            assert!(!text.contains("#include"), "{path}");
+        }
+    }
+}

@@ -1,0 +1,208 @@
+//! Frame statistics and their readback: PPLL counters and GPU timestamps are copied into a small
+//! ring of mappable buffers each frame and read when the GPU is done with them.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU8, Ordering};
+
+use crate::gpu::types::PpllCounters;
+use crate::gpu::{GpuTimer, Timings};
+use crate::strands::PpllStats;
+use crate::{GpuContext, RenderError};
+
+/// When `render` returns GPU results.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum StatsReadback {
+    /// Wait for the frame to finish and report its own counters and timings (offline rendering,
+    /// tests, benchmarks).
+    #[default]
+    Wait,
+    /// Never block: report the newest frame whose results have arrived (interactive use; the
+    /// report lags a frame or two behind).
+    Deferred,
+}
+
+/// What the GPU reported about one frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GpuReport {
+    /// The frame these results belong to.
+    pub frame: u64,
+    /// PPLL occupancy (zero counts when no strands were drawn).
+    pub ppll: PpllStats,
+    /// Per-pass GPU times.
+    pub timings: Timings,
+}
+
+/// What `render` returns.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameStats {
+    /// Index of this frame (from 0).
+    pub frame: u64,
+    /// Target size in pixels.
+    pub size: [u32; 2],
+    /// Strand segments drawn.
+    pub segments: u32,
+    /// PPLL node capacity this frame.
+    pub ppll_capacity: u32,
+    /// Bytes of PPLL nodes + heads this frame.
+    pub ppll_bytes: u64,
+    /// GPU results: this frame's with [`StatsReadback::Wait`], the newest available otherwise.
+    pub gpu: Option<GpuReport>,
+}
+
+const IDLE: u8 = 0;
+const PENDING: u8 = 1;
+const READY: u8 = 2;
+const FAILED: u8 = 3;
+
+/// Offset of the timestamps in a slot (query resolves need 256-byte alignment downstream).
+pub(crate) const TIMESTAMP_OFFSET: u64 = 256;
+
+#[derive(Debug)]
+struct Slot {
+    buffer: wgpu::Buffer,
+    state: Arc<AtomicU8>,
+    frame: u64,
+    capacity: u32,
+    head_bytes: u64,
+    counters: bool,
+    written: Vec<bool>,
+}
+
+/// A ring of readback buffers.
+#[derive(Debug)]
+pub(crate) struct ReadbackRing {
+    slots: Vec<Slot>,
+    size: u64,
+}
+
+/// What a frame recorded into its slot.
+pub(crate) struct SlotInfo {
+    pub(crate) frame: u64,
+    pub(crate) capacity: u32,
+    pub(crate) head_bytes: u64,
+    /// Whether PPLL counters were copied (a build pass ran).
+    pub(crate) counters: bool,
+}
+
+impl ReadbackRing {
+    pub(crate) fn new(ctx: &GpuContext, timer: &GpuTimer, count: usize) -> Self {
+        let size = TIMESTAMP_OFFSET + timer.resolved_bytes().max(8);
+        let slots = (0..count)
+            .map(|i| Slot {
+                buffer: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(&format!("frame/stats/readback-{i}")),
+                    size,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                }),
+                state: Arc::new(AtomicU8::new(IDLE)),
+                frame: 0,
+                capacity: 0,
+                head_bytes: 0,
+                counters: false,
+                written: Vec::new(),
+            })
+            .collect();
+        ReadbackRing { slots, size }
+    }
+
+    /// An idle slot's index, if any.
+    pub(crate) fn idle(&self) -> Option<usize> {
+        self.slots
+            .iter()
+            .position(|s| s.state.load(Ordering::Acquire) == IDLE)
+    }
+
+    /// Record the copies of this frame's results into slot `i`.
+    pub(crate) fn record(
+        &mut self,
+        i: usize,
+        encoder: &mut wgpu::CommandEncoder,
+        counters: Option<&wgpu::Buffer>,
+        timer: &GpuTimer,
+        info: SlotInfo,
+    ) {
+        let slot = &mut self.slots[i];
+        if let Some(c) = counters {
+            encoder.copy_buffer_to_buffer(c, 0, &slot.buffer, 0, Some(16));
+        }
+        timer.resolve(encoder, &slot.buffer, TIMESTAMP_OFFSET);
+        slot.frame = info.frame;
+        slot.capacity = info.capacity;
+        slot.head_bytes = info.head_bytes;
+        slot.counters = info.counters;
+        slot.written = timer.written();
+    }
+
+    /// Request the mapping of slot `i` (after the frame was submitted).
+    pub(crate) fn map(&mut self, i: usize) {
+        let slot = &self.slots[i];
+        slot.state.store(PENDING, Ordering::Release);
+        let state = slot.state.clone();
+        slot.buffer
+            .map_async(wgpu::MapMode::Read, 0..self.size, move |r| {
+                state.store(if r.is_ok() { READY } else { FAILED }, Ordering::Release);
+            });
+    }
+
+    /// Read every slot that has arrived; returns the newest report.
+    pub(crate) fn harvest(
+        &mut self,
+        ctx: &GpuContext,
+        timer: &GpuTimer,
+    ) -> Result<Option<GpuReport>, RenderError> {
+        ctx.device.poll(wgpu::PollType::Poll)?;
+        let mut newest: Option<GpuReport> = None;
+        let mut failed = false;
+        for slot in &mut self.slots {
+            match slot.state.load(Ordering::Acquire) {
+                READY => {
+                    let bytes = slot
+                        .buffer
+                        .get_mapped_range(..)
+                        .map_err(|e| RenderError::Readback(e.to_string()))?
+                        .to_vec();
+                    slot.buffer.unmap();
+                    slot.state.store(IDLE, Ordering::Release);
+                    let counters = if slot.counters {
+                        bytemuck::pod_read_unaligned::<PpllCounters>(&bytes[..16])
+                    } else {
+                        PpllCounters::default()
+                    };
+                    let report = GpuReport {
+                        frame: slot.frame,
+                        ppll: PpllStats::from_counters(counters, slot.capacity, slot.head_bytes),
+                        timings: timer.parse(&bytes[TIMESTAMP_OFFSET as usize..], &slot.written),
+                    };
+                    if newest.as_ref().is_none_or(|n| n.frame < report.frame) {
+                        newest = Some(report);
+                    }
+                }
+                FAILED => {
+                    slot.state.store(IDLE, Ordering::Release);
+                    failed = true;
+                }
+                _ => {}
+            }
+        }
+        if failed && newest.is_none() {
+            return Err(RenderError::Readback(
+                "mapping a statistics buffer failed".into(),
+            ));
+        }
+        Ok(newest)
+    }
+
+    /// Block until slot `i` has arrived, then harvest.
+    pub(crate) fn wait(
+        &mut self,
+        ctx: &GpuContext,
+        timer: &GpuTimer,
+        i: usize,
+    ) -> Result<Option<GpuReport>, RenderError> {
+        while self.slots[i].state.load(Ordering::Acquire) == PENDING {
+            ctx.device.poll(wgpu::PollType::wait_indefinitely())?;
+        }
+        self.harvest(ctx, timer)
+    }
+}

@@ -1,0 +1,180 @@
+//! [`StrandGeometry`]: a [`HairAsset`] uploaded for vertex pulling.
+
+use glam::Vec3;
+use tress_hair::HairAsset;
+use wgpu::util::DeviceExt;
+
+use crate::bind::Layouts;
+use crate::gpu::types::StrandVertex;
+use crate::{GpuContext, RenderError};
+
+/// A hair asset on the GPU: one [`StrandVertex`] per vertex and one `(first vertex, strand)` pair
+/// per segment, bound at group 2 of the strand passes.
+#[derive(Debug)]
+pub struct StrandGeometry {
+    pub(crate) bind_group: wgpu::BindGroup,
+    segments: u32,
+    strands: u32,
+    has_thickness: bool,
+    has_color: bool,
+    /// Bounding sphere (centre, radius) of the vertices.
+    pub bounds: (Vec3, f32),
+}
+
+/// The CPU arrays uploaded for an asset (exposed for tests of the layout).
+pub(crate) fn build_arrays(asset: &HairAsset) -> (Vec<StrandVertex>, Vec<[u32; 2]>) {
+    let thickness = asset.thickness();
+    let transparency = asset.transparency();
+    let color = asset.color();
+    let vertices = asset
+        .positions()
+        .iter()
+        .enumerate()
+        .map(|(i, p)| StrandVertex {
+            position: p.to_array(),
+            thickness: thickness.map_or(0.0, |t| t[i]),
+            color: color.map_or([1.0; 3], |c| c[i].to_array()),
+            alpha: transparency.map_or(1.0, |t| (1.0 - t[i]).clamp(0.0, 1.0)),
+        })
+        .collect();
+    let mut segments = Vec::with_capacity(asset.segment_count());
+    for s in 0..asset.strand_count() {
+        let r = asset.strand_range(s);
+        segments.extend((r.start..r.end.saturating_sub(1)).map(|v| [v as u32, s as u32]));
+    }
+    (vertices, segments)
+}
+
+impl StrandGeometry {
+    /// Upload an asset. Fails with [`RenderError::Limit`] when an array exceeds the device's
+    /// storage-binding or buffer limits.
+    pub fn new(ctx: &GpuContext, asset: &HairAsset) -> Result<Self, RenderError> {
+        let layouts = Layouts::new(&ctx.device);
+        Self::with_layout(ctx, &layouts.strands, asset)
+    }
+
+    pub(crate) fn with_layout(
+        ctx: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
+        asset: &HairAsset,
+    ) -> Result<Self, RenderError> {
+        let (vertices, segments) = build_arrays(asset);
+        let limit = ctx.caps.max_storage_binding.min(ctx.caps.max_buffer_size);
+        let check = |what: &str, bytes: u64| {
+            if bytes > limit {
+                Err(RenderError::Limit {
+                    what: what.into(),
+                    needed: bytes,
+                    limit,
+                })
+            } else {
+                Ok(())
+            }
+        };
+        check(
+            "strand vertex buffer",
+            std::mem::size_of_val(vertices.as_slice()) as u64,
+        )?;
+        check(
+            "strand segment buffer",
+            std::mem::size_of_val(segments.as_slice()) as u64,
+        )?;
+        let segment_count = u32::try_from(segments.len())
+            .ok()
+            .filter(|s| s.checked_mul(6).is_some())
+            .ok_or_else(|| RenderError::Invalid("too many segments for one draw".into()))?;
+        // Storage bindings cannot be empty: pad with one unused element.
+        let seg_bytes: Vec<u8> = if segments.is_empty() {
+            vec![0; 8]
+        } else {
+            bytemuck::cast_slice(&segments).to_vec()
+        };
+        let bind_group = ctx.scoped("uploading strands", || {
+            let v = ctx
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("strands/geometry/vertices"),
+                    contents: bytemuck::cast_slice(&vertices),
+                    usage: wgpu::BufferUsages::STORAGE,
+                });
+            let s = ctx
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("strands/geometry/segments"),
+                    contents: &seg_bytes,
+                    usage: wgpu::BufferUsages::STORAGE,
+                });
+            ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("strands/geometry/bind-group"),
+                layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: v.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: s.as_entire_binding(),
+                    },
+                ],
+            })
+        })?;
+        let b = asset.bounds();
+        Ok(StrandGeometry {
+            bind_group,
+            segments: segment_count,
+            strands: asset.strand_count() as u32,
+            has_thickness: asset.thickness().is_some(),
+            has_color: asset.color().is_some(),
+            bounds: (b.center(), b.size().length() * 0.5),
+        })
+    }
+
+    /// Number of segments drawn.
+    pub fn segment_count(&self) -> u32 {
+        self.segments
+    }
+
+    /// Number of strands.
+    pub fn strand_count(&self) -> u32 {
+        self.strands
+    }
+
+    /// Whether the asset has per-vertex thickness (enables the tip fade).
+    pub fn has_thickness(&self) -> bool {
+        self.has_thickness
+    }
+
+    /// Whether the asset has per-vertex colors (they replace the material's base color).
+    pub fn has_color(&self) -> bool {
+        self.has_color
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn segments_never_cross_strands() {
+        let p = vec![
+            Vec3::ZERO,
+            Vec3::Y,
+            Vec3::X,
+            Vec3::ONE,
+            Vec3::Z,
+            Vec3::NEG_Y,
+        ];
+        let asset = HairAsset::from_counts(p, &[2, 1, 3])
+            .unwrap()
+            .with_transparency(vec![0.0, 0.5, 0.0, 0.0, 0.0, 2.0])
+            .unwrap();
+        let (v, s) = build_arrays(&asset);
+        assert_eq!(s, vec![[0, 0], [3, 2], [4, 2]]);
+        assert_eq!(v.len(), 6);
+        assert_eq!(v[1].alpha, 0.5);
+        assert_eq!(v[5].alpha, 0.0);
+        assert_eq!(v[0].color, [1.0; 3]);
+        assert_eq!(v[0].thickness, 0.0);
+    }
+}

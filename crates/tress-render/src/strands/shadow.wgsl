@@ -1,0 +1,19 @@
+// Shadow pass: depth of the hair and the head as seen from one directional light, into that
+// light's ADSM shadow map (Jansson 2019 §3.4). Depth only: no fragment stage. Owner: `ShadowMap`.
+
+#include "common/strand.wgsl"
+
+// The light's orthographic camera.
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<uniform> params: StrandParams;
+
+@vertex
+fn vs_strand(@builtin(vertex_index) vertex_index: u32) -> @builtin(position) vec4<f32> {
+    return strand_vertex(camera, vertex_index, params.shadow_width_px, false).position;
+}
+
+@vertex
+fn vs_head(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>) -> @builtin(position) vec4<f32> {
+    _ = normal;
+    return camera_clip(camera, position);
+}

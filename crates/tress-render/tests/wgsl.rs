@@ -1,0 +1,70 @@
+//! Every WGSL module of the crate, composed, parses and validates with naga (no GPU needed).
+
+use tress_render::shaders;
+
+fn validate(name: &str, text: &str) -> naga::Module {
+    let module = naga::front::wgsl::parse_str(text)
+        .unwrap_or_else(|e| panic!("{name} does not parse:\n{}", e.emit_to_string(text)));
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(&module)
+    .unwrap_or_else(|e| panic!("{name} does not validate:\n{}", e.emit_to_string(text)));
+    module
+}
+
+#[test]
+fn every_source_file_composes_and_validates() {
+    assert!(shaders::SOURCES.len() >= 10);
+    for (path, _) in shaders::SOURCES {
+        let text = shaders::compose(path).expect("composes");
+        validate(path, &text);
+    }
+}
+
+#[test]
+fn entry_modules_have_their_entry_points() {
+    let expect: &[(&str, &[&str])] = &[
+        ("head/head_pass.wgsl", &["vs_main", "fs_main"]),
+        ("strands/shadow.wgsl", &["vs_strand", "vs_head"]),
+        ("strands/ppll_build.wgsl", &["vs_main", "fs_main"]),
+        ("strands/ppll_resolve.wgsl", &["vs_main", "fs_main"]),
+    ];
+    assert_eq!(expect.len(), shaders::ENTRY_MODULES.len());
+    for (path, entries) in expect {
+        let module = validate(path, &shaders::compose(path).expect("composes"));
+        let names: Vec<&str> = module
+            .entry_points
+            .iter()
+            .map(|e| e.name.as_str())
+            .collect();
+        assert_eq!(&names, entries, "{path}");
+    }
+}
+
+#[test]
+fn every_wgsl_file_on_disk_is_listed() {
+    fn walk(dir: &std::path::Path, root: &std::path::Path, out: &mut Vec<String>) {
+        for entry in std::fs::read_dir(dir).expect("src is readable") {
+            let path = entry.expect("entry").path();
+            if path.is_dir() {
+                walk(&path, root, out);
+            } else if path.extension().is_some_and(|e| e == "wgsl") {
+                let rel = path.strip_prefix(root).expect("under src");
+                let rel = rel.to_string_lossy().replace('\\', "/");
+                out.push(rel.strip_prefix("shaders/").unwrap_or(&rel).to_string());
+            }
+        }
+    }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut on_disk = Vec::new();
+    walk(&root, &root, &mut on_disk);
+    on_disk.sort();
+    let mut listed: Vec<String> = shaders::SOURCES
+        .iter()
+        .map(|(p, _)| p.to_string())
+        .collect();
+    listed.sort();
+    assert_eq!(on_disk, listed);
+}
