@@ -1,5 +1,5 @@
 //! Compositing for the per-pixel linked list (PPLL) k-buffer resolve (Jansson et al. 2019 §3.2,
-//! "Sorting and Blending", following TressFX [MET*14] and Yu et al. [YYH*12]).
+//! "Sorting and Blending", following TressFX \[MET\*14\] and Yu et al. \[YYH\*12\]).
 //!
 //! The resolve pass sorts a pixel's fragments by depth, blends the `k` nearest in the correct
 //! order and merges the remaining ones ("the tail") order-independently.

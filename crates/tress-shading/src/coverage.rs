@@ -1,5 +1,5 @@
 //! Analytic strand coverage for anti-aliasing (Jansson et al. 2019 §3.2, listing
-//! `strand_coverage`, after GPAA [Per12]).
+//! `strand_coverage`, after GPAA \[Per12\]).
 //!
 //! A strand is drawn as a line (on wgpu: a camera-facing ribbon) of constant screen width
 //! `line_thickness` pixels. Each fragment's coverage falls linearly from 1 on the line's centre to

@@ -1,4 +1,4 @@
-//! Kajiya-Kay strand lighting [KK89], the model of Jansson et al. 2019 §3.1.
+//! Kajiya-Kay strand lighting \[KK89\], the model of Jansson et al. 2019 §3.1.
 //!
 //! A strand is an infinitely thin cylinder with tangent `t`. Its diffuse term integrates a
 //! Lambertian cylinder over its circumference, which gives `sin(t, l)`; its specular term is a

@@ -23,7 +23,7 @@
 //! | [`KajiyaKay`] `{ diffuse: Vec3, specular: Vec3, exponent: f32 }` | `struct KajiyaKay { diffuse: vec3f, specular: vec3f, exponent: f32 }` |
 //! | [`kajiya_kay_diffuse`]`(t: Vec3, l: Vec3) -> f32` | `kajiya_kay_diffuse(t: vec3f, l: vec3f) -> f32` |
 //! | [`kajiya_kay_specular`]`(t: Vec3, l: Vec3, v: Vec3, exponent: f32) -> f32` | `kajiya_kay_specular(t: vec3f, l: vec3f, v: vec3f, exponent: f32) -> f32` |
-//! | [`kajiya_kay`]`(kk: &KajiyaKay, t: Vec3, l: Vec3, v: Vec3) -> Vec3` | `kajiya_kay(kk: KajiyaKay, t: vec3f, l: vec3f, v: vec3f) -> vec3f` |
+//! | [`kajiya_kay()`]`(kk: &KajiyaKay, t: Vec3, l: Vec3, v: Vec3) -> Vec3` | `kajiya_kay(kk: KajiyaKay, t: vec3f, l: vec3f, v: vec3f) -> vec3f` |
 //! | [`shift_tangent`]`(t: Vec3, n: Vec3, shift: f32) -> Vec3` | `shift_tangent(t: vec3f, n: vec3f, shift: f32) -> vec3f` |
 //! | [`strand_specular`]`(t: Vec3, v: Vec3, l: Vec3, exponent: f32) -> f32` | `strand_specular(t: vec3f, v: vec3f, l: vec3f, exponent: f32) -> f32` |
 //! | [`scheuermann_diffuse`]`(n: Vec3, l: Vec3) -> f32` | `scheuermann_diffuse(n: vec3f, l: vec3f) -> f32` |

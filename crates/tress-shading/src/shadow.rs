@@ -1,4 +1,4 @@
-//! Approximated deep shadow maps, ADSM (Jansson et al. 2019 §3.4, after Lacroix [Lac13] as used in
+//! Approximated deep shadow maps, ADSM (Jansson et al. 2019 §3.4, after Lacroix \[Lac13\] as used in
 //! Tomb Raider and TressFX).
 //!
 //! One ordinary depth map per light stores the depth `s` of the first strand the light meets. For
