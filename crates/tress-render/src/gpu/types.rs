@@ -175,7 +175,9 @@ pub struct PpllCounters {
     /// Fragments dropped because the pool was full.
     pub dropped: u32,
     /// Padding.
-    pub _pad: [u32; 2],
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
 }
 
 /// A vertex of the head mesh (vertex buffer, locations 0 and 1 of `head/head_pass.wgsl`).

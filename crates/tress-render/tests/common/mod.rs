@@ -1,0 +1,86 @@
+//! Shared helpers of the GPU tests: the context (fails loudly without an adapter), small scenes.
+
+#![allow(dead_code, unreachable_pub)]
+
+use std::sync::OnceLock;
+
+use glam::{Mat4, Vec3};
+use tress_hair::HairAsset;
+use tress_render::{Camera, GpuContext};
+
+/// The GPU context shared by a test binary, or `None` when `TRESS_SKIP_GPU_TESTS=1` and there is
+/// no adapter. Without an adapter (and without that variable) the test fails with a message that
+/// says how to get one.
+pub fn gpu() -> Option<GpuContext> {
+    static CTX: OnceLock<Result<GpuContext, String>> = OnceLock::new();
+    let ctx = CTX.get_or_init(|| GpuContext::headless().map_err(|e| e.to_string()));
+    match ctx {
+        Ok(ctx) => Some(ctx.clone()),
+        Err(e) if std::env::var("TRESS_SKIP_GPU_TESTS").is_ok_and(|v| v == "1") => {
+            eprintln!("TRESS_SKIP_GPU_TESTS=1: skipping a GPU test ({e})");
+            None
+        }
+        Err(e) => panic!(
+            "this test needs a GPU adapter: {e}\nOn a machine without a GPU install Mesa's CPU \
+             Vulkan driver lavapipe (`apt-get install mesa-vulkan-drivers`) and run with \
+             VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json WGPU_BACKEND=vulkan; \
+             set TRESS_SKIP_GPU_TESTS=1 only to skip GPU tests on purpose."
+        ),
+    }
+}
+
+/// An orthographic camera at z = 10 looking down -z at the square [-1, 1]², depth 0.1..20.
+pub fn ortho_camera(size: u32) -> Camera {
+    Camera {
+        view_from_world: Mat4::look_at_rh(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, Vec3::Y),
+        clip_from_view: Mat4::orthographic_rh(-1.0, 1.0, -1.0, 1.0, 0.1, 20.0),
+        viewport: [size, size],
+    }
+}
+
+/// Normalized depth of world z under [`ortho_camera`].
+pub fn ortho_depth(z: f32) -> f32 {
+    (10.0 - z - 0.1) / 19.9
+}
+
+/// Horizontal two-vertex strands across the whole view at `y = 0`, one per `(z, color, alpha)`,
+/// in the given order.
+pub fn layer_strands(layers: &[(f32, Vec3, f32)]) -> HairAsset {
+    let mut positions = Vec::new();
+    for &(z, _, _) in layers {
+        positions.push(Vec3::new(-3.0, 0.0, z));
+        positions.push(Vec3::new(3.0, 0.0, z));
+    }
+    let counts = vec![2; layers.len()];
+    let colors = layers.iter().flat_map(|&(_, c, _)| [c, c]).collect();
+    let transparency = layers
+        .iter()
+        .flat_map(|&(_, _, a)| [1.0 - a, 1.0 - a])
+        .collect();
+    HairAsset::from_counts(positions, &counts)
+        .and_then(|h| h.with_color(colors))
+        .and_then(|h| h.with_transparency(transparency))
+        .expect("valid asset")
+}
+
+/// Strands rooted on the upper part of a sphere of `radius` at the origin, falling under a little
+/// gravity: a small stand-in hairstyle.
+pub fn sphere_hair(radius: f32, strands: u32, vertices: u32) -> HairAsset {
+    let mut positions = Vec::new();
+    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
+    for i in 0..strands {
+        let y = 1.0 - (i as f32 + 0.5) / strands as f32 * 0.9;
+        let r = (1.0 - y * y).sqrt();
+        let phi = golden * i as f32;
+        let n = Vec3::new(r * phi.cos(), y, r * phi.sin());
+        let mut p = n * radius * 1.02;
+        let mut dir = n;
+        for _ in 0..vertices {
+            positions.push(p);
+            dir = (dir + Vec3::new(0.0, -0.3, 0.0)).normalize();
+            p += dir * (radius * 0.1);
+        }
+    }
+    let counts = vec![vertices; strands as usize];
+    HairAsset::from_counts(positions, &counts).expect("valid asset")
+}

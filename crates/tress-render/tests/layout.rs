@@ -1,0 +1,137 @@
+//! Design rule 3: every `#[repr(C)]` struct in `gpu/types.rs` matches its WGSL twin in size and
+//! member offsets, checked by parsing the composed WGSL with naga (no GPU needed).
+
+use std::mem::{offset_of, size_of};
+
+use tress_render::gpu::types::*;
+use tress_render::shaders;
+
+/// `(size, [(member, offset)])` of the WGSL struct `name`.
+fn wgsl_layout(module: &naga::Module, name: &str) -> (u32, Vec<(String, u32)>) {
+    let (_, ty) = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("no WGSL struct {name}"));
+    match &ty.inner {
+        naga::TypeInner::Struct { members, span } => (
+            *span,
+            members
+                .iter()
+                .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                .collect(),
+        ),
+        other => panic!("{name} is not a struct: {other:?}"),
+    }
+}
+
+macro_rules! check {
+    ($module:expr, $wgsl:literal, $rust:ty, [$($field:ident),* $(,)?]) => {{
+        let (size, members) = wgsl_layout($module, $wgsl);
+        assert_eq!(size as usize, size_of::<$rust>(), "size of {}", $wgsl);
+        let rust: Vec<(String, u32)> =
+            vec![$((stringify!($field).to_string(), offset_of!($rust, $field) as u32)),*];
+        assert_eq!(members, rust, "members of {}", $wgsl);
+    }};
+}
+
+#[test]
+fn gpu_types_match_wgsl() {
+    let text = shaders::compose("strands/ppll_build.wgsl").expect("composes");
+    let m = naga::front::wgsl::parse_str(&text).expect("parses");
+    check!(
+        &m,
+        "Camera",
+        CameraUniform,
+        [
+            clip_from_world,
+            eye,
+            pixels_per_unit,
+            viewport,
+            orthographic,
+            _pad0,
+            forward,
+            _pad1
+        ]
+    );
+    check!(
+        &m,
+        "DirectionalLight",
+        LightUniform,
+        [light_from_world, to_light, intensity, color, depth_range]
+    );
+    check!(&m, "Lights", LightsUniform, [ambient, count, lights]);
+    check!(
+        &m,
+        "StrandVertex",
+        StrandVertex,
+        [position, thickness, color, alpha]
+    );
+    check!(
+        &m,
+        "StrandParams",
+        StrandParams,
+        [
+            width_px,
+            alpha,
+            k,
+            shading,
+            coverage,
+            thickness_fade,
+            vertex_color,
+            node_capacity,
+            shadow_r,
+            shadow_alpha,
+            pcf_radius,
+            shadow_bias,
+            shadow_map_size,
+            shadow_width_px,
+            target_width,
+            shadows,
+            hair_center,
+            light_count
+        ]
+    );
+    // HairLighting's trailing padding is implicit in WGSL (struct alignment), explicit in Rust.
+    let (size, members) = wgsl_layout(&m, "HairLighting");
+    assert_eq!(size as usize, size_of::<HairLightingGpu>());
+    let rust = [
+        ("diffuse_color", offset_of!(HairLightingGpu, diffuse_color)),
+        (
+            "primary_exponent",
+            offset_of!(HairLightingGpu, primary_exponent),
+        ),
+        ("primary_color", offset_of!(HairLightingGpu, primary_color)),
+        ("primary_shift", offset_of!(HairLightingGpu, primary_shift)),
+        (
+            "secondary_color",
+            offset_of!(HairLightingGpu, secondary_color),
+        ),
+        (
+            "secondary_exponent",
+            offset_of!(HairLightingGpu, secondary_exponent),
+        ),
+        (
+            "secondary_shift",
+            offset_of!(HairLightingGpu, secondary_shift),
+        ),
+    ];
+    let rust: Vec<(String, u32)> = rust
+        .iter()
+        .map(|(n, o)| (n.to_string(), *o as u32))
+        .collect();
+    assert_eq!(members, rust);
+    check!(
+        &m,
+        "Material",
+        MaterialUniform,
+        [lighting, base_color, _pad0, head_color, _pad1]
+    );
+    check!(&m, "PpllNode", PpllNode, [color, alpha, depth, next]);
+    check!(
+        &m,
+        "PpllCounters",
+        PpllCounters,
+        [requested, dropped, _pad0, _pad1]
+    );
+}

@@ -1,0 +1,193 @@
+//! PPLL build + resolve against the CPU composite (`tress_shading::resolve_k_buffer`), and the
+//! node pool's overflow accounting and growth (design rule 8).
+
+mod common;
+
+use glam::{Vec3, Vec4};
+use tress_render::{
+    COLOR_FORMAT, FrameInputs, FrameStats, LinearImage, Material, OffscreenTargets, Renderer,
+    StrandSettings, TargetFormats, read_texture,
+};
+use tress_shading::{StrandFragment, resolve_k_buffer};
+
+const SIZE: u32 = 64;
+const BACKGROUND: Vec3 = Vec3::new(0.1, 0.2, 0.3);
+
+/// Layers in the order they are drawn (deliberately not depth order).
+const LAYERS: [(f32, [f32; 3], f32); 6] = [
+    (0.5, [1.0, 0.0, 0.0], 0.5),
+    (2.0, [0.0, 1.0, 0.0], 0.4),
+    (-1.0, [0.0, 0.0, 1.0], 0.7),
+    (1.0, [1.0, 1.0, 0.0], 0.3),
+    (-2.0, [0.2, 0.9, 0.9], 0.6),
+    (0.0, [0.9, 0.5, 0.1], 0.8),
+];
+
+/// Render the layers with flat colors (no lights, white ambient: the fragment color is the vertex
+/// color), no coverage, full strand alpha; returns the image and the stats.
+fn render_layers(
+    ctx: &tress_render::GpuContext,
+    layers: &[(f32, Vec3, f32)],
+    settings: StrandSettings,
+    frames: usize,
+) -> (LinearImage, Vec<FrameStats>) {
+    let mut renderer = Renderer::new(ctx, TargetFormats::default(), settings).expect("renderer");
+    let hair = renderer
+        .upload_hair(ctx, &common::layer_strands(layers))
+        .expect("upload");
+    let targets = OffscreenTargets::new(ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
+    let inputs = FrameInputs {
+        camera: common::ortho_camera(SIZE),
+        lights: &[],
+        ambient: Vec3::ONE,
+        material: Material::default(),
+        hair: Some(&hair),
+        head: None,
+        clear: Some(wgpu::Color {
+            r: f64::from(BACKGROUND.x),
+            g: f64::from(BACKGROUND.y),
+            b: f64::from(BACKGROUND.z),
+            a: 1.0,
+        }),
+    };
+    let stats = (0..frames)
+        .map(|_| {
+            renderer
+                .render(ctx, &targets.targets(), &inputs)
+                .expect("frame")
+        })
+        .collect();
+    (read_texture(ctx, &targets.color).expect("readback"), stats)
+}
+
+fn flat(width_px: f32, k: u32) -> StrandSettings {
+    StrandSettings {
+        width_px,
+        k,
+        alpha: 1.0,
+        coverage: false,
+        shadows: false,
+        ..Default::default()
+    }
+}
+
+fn layers(n: usize) -> Vec<(f32, Vec3, f32)> {
+    LAYERS[..n]
+        .iter()
+        .map(|&(z, c, a)| (z, Vec3::from(c), a))
+        .collect()
+}
+
+fn expected(layers: &[(f32, Vec3, f32)], k: usize) -> Vec3 {
+    let fragments: Vec<StrandFragment> = layers
+        .iter()
+        .map(|&(z, color, alpha)| StrandFragment {
+            color,
+            alpha,
+            depth: common::ortho_depth(z),
+        })
+        .collect();
+    resolve_k_buffer(&fragments, k, BACKGROUND)
+}
+
+fn assert_close(got: [f32; 4], want: Vec3, tol: f32, what: &str) {
+    let got = Vec4::from(got);
+    assert!(
+        (got.truncate() - want).abs().max_element() < tol && (got.w - 1.0).abs() < 1e-3,
+        "{what}: got {got}, want {want}"
+    );
+}
+
+#[test]
+fn sorted_layers_match_cpu_composite() {
+    let Some(ctx) = common::gpu() else { return };
+    let l = layers(4);
+    let (img, stats) = render_layers(&ctx, &l, flat(32.0, 16), 1);
+    let want = expected(&l, 16);
+    // Inside the ribbons (rows 16..48), away from their edges.
+    for (x, y) in [(32, 32), (5, 25), (60, 40)] {
+        assert_close(
+            img.get(x, y).expect("in image"),
+            want,
+            4e-3,
+            &format!("pixel {x},{y}"),
+        );
+    }
+    // Outside: the background, untouched.
+    assert_close(
+        img.get(32, 4).expect("in image"),
+        BACKGROUND,
+        1e-3,
+        "background",
+    );
+    let gpu = stats[0].gpu.as_ref().expect("stats are waited for");
+    assert_eq!(gpu.ppll.dropped, 0);
+    assert_eq!(
+        gpu.ppll.used,
+        4 * SIZE * 32,
+        "one node per layer per covered pixel"
+    );
+}
+
+#[test]
+fn layers_beyond_k_use_the_order_independent_tail() {
+    let Some(ctx) = common::gpu() else { return };
+    let l = layers(6);
+    let (img, _) = render_layers(&ctx, &l, flat(32.0, 2), 1);
+    let want = expected(&l, 2);
+    let exact = expected(&l, 16);
+    assert!(
+        (want - exact).abs().max_element() > 0.01,
+        "the test must tell k = 2 from exact"
+    );
+    assert_close(img.get(20, 30).expect("in image"), want, 4e-3, "k = 2");
+    let (img, _) = render_layers(&ctx, &l, flat(32.0, 16), 1);
+    assert_close(img.get(20, 30).expect("in image"), exact, 4e-3, "k = 16");
+}
+
+#[test]
+fn overflow_is_counted_and_pool_stays_within_its_cap() {
+    let Some(ctx) = common::gpu() else { return };
+    let capacity = 1000u32;
+    let settings = StrandSettings {
+        ppll_nodes_per_pixel: 0.01,
+        ppll_max_bytes: u64::from(capacity) * tress_render::strands::NODE_BYTES,
+        ..flat(32.0, 16)
+    };
+    let (_, stats) = render_layers(&ctx, &layers(4), settings, 3);
+    let requested = 4 * SIZE * 32;
+    // Frame 0 starts at 0.01 nodes per pixel; frame 1 grows to the cap; frame 2 stays there.
+    let initial = (SIZE * SIZE).div_ceil(100);
+    for (s, capacity) in stats.iter().zip([initial, capacity, capacity]) {
+        let gpu = s.gpu.as_ref().expect("stats are waited for");
+        assert_eq!(gpu.ppll.capacity, capacity, "frame {}", s.frame);
+        assert_eq!(gpu.ppll.used, capacity, "a full pool");
+        assert!(gpu.ppll.dropped > 0);
+        assert_eq!(gpu.ppll.dropped, requested - capacity);
+        assert_eq!(gpu.ppll.requested, requested);
+        assert_eq!(s.ppll_capacity, capacity);
+    }
+}
+
+#[test]
+fn pool_grows_after_a_frame_that_dropped_fragments() {
+    let Some(ctx) = common::gpu() else { return };
+    let settings = StrandSettings {
+        ppll_nodes_per_pixel: 0.25,
+        ..flat(32.0, 16)
+    };
+    let l = layers(4);
+    let (img, stats) = render_layers(&ctx, &l, settings, 2);
+    let first = stats[0].gpu.as_ref().expect("stats");
+    let second = stats[1].gpu.as_ref().expect("stats");
+    assert_eq!(first.ppll.capacity, SIZE * SIZE / 4);
+    assert!(first.ppll.dropped > 0);
+    assert!(second.ppll.capacity > first.ppll.capacity);
+    assert_eq!(second.ppll.dropped, 0);
+    assert_close(
+        img.get(32, 32).expect("in image"),
+        expected(&l, 16),
+        4e-3,
+        "after growth",
+    );
+}
