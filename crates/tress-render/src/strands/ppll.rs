@@ -157,7 +157,8 @@ mod tests {
         let c = PpllCounters {
             requested: 120,
             dropped: 20,
-            _pad: [0; 2],
+            _pad0: 0,
+            _pad1: 0,
         };
         let s = PpllStats::from_counters(c, 100, 64);
         assert_eq!((s.used, s.dropped, s.node_bytes), (100, 20, 1600));
