@@ -36,10 +36,11 @@ fn vec3() -> impl Strategy<Value = Vec3> {
     (coord(), coord(), coord()).prop_map(|(x, y, z)| Vec3::new(x, y, z))
 }
 
+/// Optional per-vertex thickness, transparency and color.
+type Attributes = (Option<Vec<f32>>, Option<Vec<f32>>, Option<Vec<Vec3>>);
+
 /// Per-vertex attributes for `n` vertices, each optional.
-fn attributes(
-    n: usize,
-) -> impl Strategy<Value = (Option<Vec<f32>>, Option<Vec<f32>>, Option<Vec<Vec3>>)> {
+fn attributes(n: usize) -> impl Strategy<Value = Attributes> {
     (
         proptest::option::of(proptest::collection::vec(0.0f32..2.0, n)),
         proptest::option::of(proptest::collection::vec(0.0f32..1.0, n)),
