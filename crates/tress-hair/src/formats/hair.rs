@@ -173,9 +173,9 @@ pub fn read_hair(bytes: &[u8]) -> Result<HairAsset, HairError> {
             let per_strand = u64::from(d_segments) + 1;
             if h.checked_mul(per_strand) != Some(p) {
                 return Err(err(format!(
-                    "without a segments array every strand has the default {d_segments} segments \
-                     ({per_strand} points), but {hairs} strands of {per_strand} points are not \
-                     the {points} points the header gives"
+                    "there is no segments array, so every strand has the default {d_segments} \
+                     segments, but {hairs} strands of {per_strand} points do not make the \
+                     header's {points} points"
                 )));
             }
             // per_strand <= points <= u32::MAX here, and so is every prefix.
