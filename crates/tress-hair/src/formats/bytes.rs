@@ -6,6 +6,7 @@
 
 use bytemuck::Pod;
 use glam::{Vec2, Vec3};
+use rayon::prelude::*;
 
 use crate::HairError;
 
@@ -41,20 +42,33 @@ pub(crate) fn read_xyz_of_vec4s(src: &[u8]) -> Vec<Vec3> {
     collect::<3, 16, _>(src, Vec3::from_array)
 }
 
+/// Arrays at least this long are decoded on several threads.
+const PARALLEL_BYTES: usize = 1 << 20;
+
 /// One element per `S` bytes, made from the first `W` little-endian `f32` words of each.
 ///
-/// A single pass into a vector of exactly the right capacity (the chunk iterator knows its
-/// length), with no zero-fill first; on little-endian machines the compiler turns it into plain
-/// vector loads and stores.
-fn collect<const W: usize, const S: usize, T>(src: &[u8], make: impl Fn([f32; W]) -> T) -> Vec<T> {
-    src.as_chunks::<S>()
-        .0
-        .iter()
-        .map(|chunk| {
-            let words = chunk.as_chunks::<4>().0;
-            make(std::array::from_fn(|i| f32::from_le_bytes(words[i])))
-        })
-        .collect()
+/// A single pass into a vector of exactly the right capacity, with no zero-fill first; on
+/// little-endian machines the compiler turns the word assembly into plain vector loads and
+/// stores. Large arrays are split over rayon's threads, which also spreads the cost of the
+/// kernel's first-touch page faults of the fresh output.
+fn collect<const W: usize, const S: usize, T: Send>(
+    src: &[u8],
+    make: impl Fn([f32; W]) -> T + Sync,
+) -> Vec<T> {
+    let chunks = src.as_chunks::<S>().0;
+    let element = |chunk: &[u8; S]| {
+        let words = chunk.as_chunks::<4>().0;
+        make(std::array::from_fn(|i| f32::from_le_bytes(words[i])))
+    };
+    if src.len() >= PARALLEL_BYTES {
+        chunks
+            .par_iter()
+            .with_min_len(PARALLEL_BYTES / S / 4)
+            .map(element)
+            .collect()
+    } else {
+        chunks.iter().map(element).collect()
+    }
 }
 
 /// Append the little-endian bytes of `values` (made of 4-byte words) to `out`.
