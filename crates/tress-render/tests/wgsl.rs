@@ -68,3 +68,10 @@ fn every_wgsl_file_on_disk_is_listed() {
     listed.sort();
     assert_eq!(on_disk, listed);
 }
+
+#[test]
+fn shading_test_harness_validates() {
+    let src = include_str!("shading_gpu.wgsl");
+    let text = shaders::compose_source("tests/shading_gpu.wgsl", src).expect("composes");
+    validate("tests/shading_gpu.wgsl", &text);
+}
