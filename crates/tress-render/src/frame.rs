@@ -23,6 +23,9 @@ use crate::strands::{
 };
 use crate::{Camera, DirectionalLight, GpuContext, MAX_LIGHTS, Material, RenderError};
 
+/// Most renders of one frame when PPLL fragments were dropped (see [`Renderer::render`]).
+pub const MAX_ATTEMPTS: u32 = 4;
+
 /// Names of the timed passes, in frame order.
 pub const PASS_NAMES: &[&str] = &[
     "strands/shadow",
@@ -233,6 +236,12 @@ impl Renderer {
     }
 
     /// Render one frame into `targets` and submit it on `ctx.queue`.
+    ///
+    /// With [`StatsReadback::Wait`] and a clearing frame (`inputs.clear` set), a frame that
+    /// dropped PPLL fragments is rendered again with the grown pool (at most
+    /// [`MAX_ATTEMPTS`] times in all), so offline renders are complete; `FrameStats::attempts`
+    /// says how many it took. A frame drawn over the caller's content (`clear: None`) is never
+    /// repeated: the next frame uses the grown pool.
     pub fn render(
         &mut self,
         ctx: &GpuContext,
@@ -263,6 +272,45 @@ impl Renderer {
         let mut report = self.ring.harvest(ctx, &self.timer)?;
         self.grow_pool_from(ctx, report.as_ref());
 
+        let mut attempts = 0;
+        loop {
+            attempts += 1;
+            let (frame, slot) = self.submit(ctx, targets, inputs, size)?;
+            let capacity = pool_capacity(self.pool.as_ref());
+            if let (StatsReadback::Wait, Some(i)) = (self.stats_readback, slot) {
+                report = self.ring.wait(ctx, &self.timer, i)?.or(report);
+                self.grow_pool_from(ctx, report.as_ref());
+            }
+            let grew = self.grown_capacity.is_some_and(|c| c > capacity);
+            let dropped = report
+                .as_ref()
+                .is_some_and(|r| r.frame == frame && r.ppll.dropped > 0);
+            if dropped && grew && inputs.clear.is_some() && attempts < MAX_ATTEMPTS {
+                tracing::debug!(frame, "PPLL overflowed: rendering the frame again");
+                continue;
+            }
+            return Ok(FrameStats {
+                frame,
+                size,
+                segments: inputs.hair.map_or(0, |h| h.segment_count()),
+                ppll_capacity: capacity,
+                ppll_bytes: self.pool.as_ref().map_or(0, |p| {
+                    u64::from(p.capacity) * ppll::NODE_BYTES + PpllPool::head_bytes(p.size)
+                }),
+                attempts,
+                gpu: report,
+            });
+        }
+    }
+
+    /// Encode and submit one frame; returns its index and its readback slot.
+    fn submit(
+        &mut self,
+        ctx: &GpuContext,
+        targets: &Targets<'_>,
+        inputs: &FrameInputs<'_>,
+        size: [u32; 2],
+    ) -> Result<(u64, Option<usize>), RenderError> {
         // ---- PPLL buffers for this target size and capacity
         let cap_nodes = PpllPool::cap_nodes(ctx, self.settings.ppll_max_bytes);
         let pixels = u64::from(size[0]) * u64::from(size[1]);
@@ -417,20 +465,7 @@ impl Renderer {
             }
         })?;
 
-        if let (StatsReadback::Wait, Some(i)) = (self.stats_readback, slot) {
-            report = self.ring.wait(ctx, &self.timer, i)?.or(report);
-            self.grow_pool_from(ctx, report.as_ref());
-        }
-        Ok(FrameStats {
-            frame,
-            size,
-            segments: hair.map_or(0, |h| h.segment_count()),
-            ppll_capacity: pool_capacity(self.pool.as_ref()),
-            ppll_bytes: self.pool.as_ref().map_or(0, |p| {
-                u64::from(p.capacity) * ppll::NODE_BYTES + PpllPool::head_bytes(p.size)
-            }),
-            gpu: report,
-        })
+        Ok((frame, slot))
     }
 
     fn grow_pool_from(&mut self, ctx: &GpuContext, report: Option<&crate::stats::GpuReport>) {

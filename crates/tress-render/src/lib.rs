@@ -44,7 +44,7 @@ mod stats;
 pub mod strands;
 
 pub use error::RenderError;
-pub use frame::{FrameInputs, PASS_NAMES, Renderer};
+pub use frame::{FrameInputs, MAX_ATTEMPTS, PASS_NAMES, Renderer};
 pub use gpu::{
     COLOR_FORMAT, ContextOptions, DEPTH_FORMAT, GpuContext, LinearImage, OffscreenTargets,
     TargetFormats, Targets, Timings, read_texture,

@@ -45,6 +45,9 @@ pub struct FrameStats {
     pub ppll_capacity: u32,
     /// Bytes of PPLL nodes + heads this frame.
     pub ppll_bytes: u64,
+    /// Times the frame was rendered (more than 1 when a full PPLL pool grew and the frame was
+    /// repeated; see `Renderer::render`).
+    pub attempts: u32,
     /// GPU results: this frame's with [`StatsReadback::Wait`], the newest available otherwise.
     pub gpu: Option<GpuReport>,
 }

@@ -456,9 +456,15 @@ fn shading_wgsl_matches_cpu_twins() {
     // The grid must exercise the interesting ranges, not only the clamped ends.
     let partial = |f: usize, c: usize| {
         let inside = |x: f32| x > 0.0 && x < 1.0;
-        cases.iter().filter(|case| inside(run_cpu(case, &map)[f][c])).count()
+        cases
+            .iter()
+            .filter(|case| inside(run_cpu(case, &map)[f][c]))
+            .count()
     };
     assert!(partial(5, 2) > CASES / 20, "too few partial coverages");
-    assert!(partial(4, 3) > CASES / 4, "too few partial ADSM visibilities");
+    assert!(
+        partial(4, 3) > CASES / 4,
+        "too few partial ADSM visibilities"
+    );
     assert!(partial(11, 0) > CASES / 4, "too few partial PCF results");
 }
