@@ -247,3 +247,40 @@ fn renders_into_an_srgb_target() {
         assert!((got - want).abs() < 0.01, "{p:?}");
     }
 }
+
+#[test]
+fn readback_writes_png_and_exr() {
+    let Some(ctx) = common::gpu() else { return };
+    let mut r =
+        Renderer::new(&ctx, TargetFormats::default(), StrandSettings::default()).expect("renderer");
+    let t = OffscreenTargets::new(&ctx, [SIZE, SIZE / 2], COLOR_FORMAT).expect("targets");
+    let mut frame = inputs(None, None, &[]);
+    frame.camera.viewport = [SIZE, SIZE / 2];
+    frame.clear = Some(wgpu::Color {
+        r: 0.25,
+        g: 0.5,
+        b: 2.0,
+        a: 1.0,
+    });
+    r.render(&ctx, &t.targets(), &frame).expect("frame");
+    let img = read_texture(&ctx, &t.color).expect("readback");
+    assert_eq!((img.width, img.height), (SIZE, SIZE / 2));
+    assert_eq!(img.get(SIZE - 1, SIZE / 2 - 1), Some([0.25, 0.5, 2.0, 1.0]));
+
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
+    let exr = dir.join("readback.exr");
+    img.save_exr(&exr).expect("exr");
+    let back = image::open(&exr).expect("reads").to_rgba32f();
+    assert_eq!(back.dimensions(), (SIZE, SIZE / 2));
+    assert_eq!(
+        back.get_pixel(3, 3).0,
+        [0.25, 0.5, 2.0, 1.0],
+        "EXR keeps linear HDR values"
+    );
+
+    let png = dir.join("readback.png");
+    img.save_png(&png).expect("png");
+    let back = image::open(&png).expect("reads").to_rgba8();
+    // sRGB encoding of 0.25 and 0.5; 2.0 clamps to 1.
+    assert_eq!(back.get_pixel(3, 3).0, [137, 188, 255, 255]);
+}

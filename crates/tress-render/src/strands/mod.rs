@@ -37,7 +37,9 @@
 //! - **Node pool.** The pool starts at `ppll_nodes_per_pixel` nodes per target pixel (default 8:
 //!   112.5 MiB of nodes + 3.5 MiB of heads at 1280x720, inside 128 MiB) and never exceeds
 //!   `ppll_max_bytes` nor the device's storage-binding limit (128 MiB on lavapipe). When a frame
-//!   dropped fragments, the next frame grows the pool to 1.25x the nodes requested, up to the cap.
+//!   dropped fragments, the next frame grows the pool to 1.25x the nodes requested, up to the cap;
+//!   an offline frame (statistics waited for, targets cleared by the frame) is rendered again at
+//!   once with the grown pool, so a single render comes out complete when the cap allows.
 //! - **Self-shadowing (§3.4, ADSM after Lacroix).** One depth map per light (`shadow_map_size`,
 //!   default 1024) holds the nearest hair or head depth from the light (orthographic, fitted to
 //!   the bounds of hair and head). A fragment `d` world units behind the stored depth gets the
@@ -129,7 +131,8 @@ pub struct StrandSettings {
     pub shadows: bool,
     /// Shadow map edge in texels.
     pub shadow_map_size: u32,
-    /// ADSM `r`: expected strands per world unit of depth inside the hair.
+    /// ADSM `r`: expected strands per world unit of depth inside the hair (the default, 4, is
+    /// meant for the centimetre-like units of `tress_hair`'s generators).
     pub shadow_r: f32,
     /// ADSM `alpha`: opacity of one occluding strand.
     pub shadow_alpha: f32,
