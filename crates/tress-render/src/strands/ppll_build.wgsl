@@ -87,13 +87,14 @@ fn fs_main(in: StrandVarying) {
     if alpha <= 1.0 / 1024.0 {
         return;
     }
-    let color = shade_strand(in);
     let node = atomicAdd(&ppll_counters.requested, 1u);
-    // Design rule 8: check against the capacity, count what is dropped.
+    // Design rule 8: check against the capacity, count what is dropped (before shading, so a
+    // full pool costs no shading).
     if node >= params.node_capacity {
         atomicAdd(&ppll_counters.dropped, 1u);
         return;
     }
+    let color = shade_strand(in);
     let prev = atomicExchange(&ppll_heads[px.y * params.target_width + px.x], node + 1u);
     ppll_nodes[node] = PpllNode(pack_rgb9e5(color), min(alpha, 1.0), in.position.z, prev);
 }
