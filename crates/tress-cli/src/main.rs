@@ -26,6 +26,8 @@ enum Command {
     Generate(cmd::generate::Args),
     /// Convert between hair formats, merging inputs and optionally adding follow hairs.
     Convert(cmd::convert::Args),
+    /// Render a scene (`.toml`), hair files, or the built-in demo to PNG or EXR.
+    Render(cmd::render::Args),
 }
 
 fn main() -> ExitCode {
@@ -34,6 +36,7 @@ fn main() -> ExitCode {
         Command::Info(a) => cmd::info::run(a),
         Command::Generate(a) => cmd::generate::run(a),
         Command::Convert(a) => cmd::convert::run(a),
+        Command::Render(a) => cmd::render::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,325 @@
+//! `tress render [INPUT...] -o OUT.(png|exr) [--technique T] [--width W --height H]
+//! [--set key=value]... [--json]`
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use glam::Vec3;
+use serde::Serialize;
+use tress_render::scene_setup::{PreparedScene, frame_bounds};
+use tress_render::{
+    COLOR_FORMAT, FrameInputs, FrameStats, GpuContext, HeadGeometry, OffscreenTargets, Renderer,
+    TargetFormats, Timings, read_texture, wgpu,
+};
+use tress_scene::{HairSpec, Scene};
+
+use crate::progress;
+
+/// The built-in demo: the paper's ponytail (136,320 strands × 13 vertices) on the generated head.
+pub(crate) const DEMO_SCENE: &str = include_str!("../../../../scenes/ponytail.toml");
+
+/// Techniques `render` can run today.
+const IMPLEMENTED: &[&str] = &["strands"];
+
+/// Arguments of `tress render`.
+#[derive(clap::Args, Debug)]
+pub(crate) struct Args {
+    /// A scene file (`.toml`), or hair files (`.hair`, `.tfx`; merged, framed automatically,
+    /// default lights, no head). Nothing renders the built-in demo scene.
+    inputs: Vec<PathBuf>,
+    /// Output image: `.png` (8-bit sRGB) or `.exr` (linear float).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Rendering technique (default: the scene's, else `strands`).
+    #[arg(long)]
+    technique: Option<String>,
+    /// Image width in pixels (default: the scene's, else 1280).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels (default: the scene's, else 720).
+    #[arg(long)]
+    height: Option<u32>,
+    /// Override any scene or technique setting by its dotted name, e.g. `strands.k=8`,
+    /// `camera.fov_y_deg=30`, `light.0.intensity=2`. Repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// Print exactly one JSON object describing the frame.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Serialize)]
+struct Report {
+    technique: String,
+    width: u32,
+    height: u32,
+    strands: usize,
+    segments: usize,
+    adapter: Adapter,
+    passes: Vec<Pass>,
+    frame_gpu_ms: Option<f64>,
+    ppll: Ppll,
+    output: String,
+}
+
+#[derive(Serialize)]
+struct Adapter {
+    name: String,
+    backend: String,
+}
+
+#[derive(Serialize)]
+struct Pass {
+    name: String,
+    gpu_ms: f64,
+}
+
+#[derive(Serialize)]
+struct Ppll {
+    capacity: u32,
+    used: u32,
+    dropped: u32,
+    bytes: u64,
+}
+
+/// Build the scene the inputs describe, before any settings from the command line.
+pub(crate) fn base_scene(inputs: &[PathBuf]) -> Result<(Scene, bool)> {
+    let is_scene = |p: &PathBuf| {
+        p.extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("toml"))
+    };
+    match inputs {
+        [] => Ok((Scene::from_str(DEMO_SCENE, ".")?, false)),
+        [one] if is_scene(one) => Ok((Scene::from_path(one)?, false)),
+        many if many.iter().any(is_scene) => {
+            bail!("give either one scene file or hair files, not both")
+        }
+        files => {
+            let mut scene = Scene::from_str("[head]\ngenerated = false\n", ".")?;
+            scene.hair = vec![HairSpec {
+                files: files.to_vec(),
+                ..HairSpec::default()
+            }];
+            Ok((scene, true))
+        }
+    }
+}
+
+/// Apply the command line's size, technique and `--set` options to a scene.
+pub(crate) fn apply_options(
+    scene: &mut Scene,
+    technique: Option<&str>,
+    width: Option<u32>,
+    height: Option<u32>,
+    sets: &[String],
+) -> Result<()> {
+    if let Some(w) = width {
+        scene.apply_override(&format!("output.width={w}"))?;
+    }
+    if let Some(h) = height {
+        scene.apply_override(&format!("output.height={h}"))?;
+    }
+    if let Some(t) = technique {
+        scene.apply_override(&format!("technique=\"{t}\""))?;
+    }
+    scene.apply_overrides(sets)?;
+    Ok(())
+}
+
+pub(crate) fn run(args: Args) -> Result<()> {
+    let ext = output_kind(&args.output)?;
+    let (mut scene, auto_frame) = base_scene(&args.inputs)?;
+    apply_options(
+        &mut scene,
+        args.technique.as_deref(),
+        args.width,
+        args.height,
+        &args.sets,
+    )?;
+    if !IMPLEMENTED.contains(&scene.technique.as_str()) {
+        bail!(
+            "technique `{}` is not available yet (available: {})",
+            scene.technique,
+            IMPLEMENTED.join(", ")
+        );
+    }
+    let pb = progress::spinner("loading hair");
+    let prepared = PreparedScene::load(&scene);
+    pb.finish_and_clear();
+    let prepared = prepared?;
+    if let (true, Some(h)) = (auto_frame, &prepared.hair) {
+        let b = h.bounds();
+        frame_bounds(&mut scene, b.min, b.max);
+        // The command line's --set still wins over the automatic framing.
+        scene.apply_overrides(&args.sets)?;
+    }
+    let size = [scene.output.width, scene.output.height];
+
+    let ctx = GpuContext::headless()?;
+    let pb = progress::spinner(format!(
+        "rendering {}x{} on {}",
+        size[0], size[1], ctx.adapter_info.name
+    ));
+    let result = render_frame(&ctx, &scene, &prepared, size);
+    pb.finish_and_clear();
+    let (image, stats) = result?;
+    match ext {
+        OutputKind::Png => image.save_png(&args.output)?,
+        OutputKind::Exr => image.save_exr(&args.output)?,
+    }
+
+    let (strands, segments) = prepared
+        .hair
+        .as_ref()
+        .map_or((0, 0), |h| (h.strand_count(), h.segment_count()));
+    let report = report(&ctx, &scene, &args.output, strands, segments, &stats);
+    if args.json {
+        println!("{}", serde_json::to_string(&report)?);
+    } else {
+        println!(
+            "wrote {} ({}x{}, {} strands, {} segments) on {} ({})",
+            report.output,
+            size[0],
+            size[1],
+            strands,
+            segments,
+            report.adapter.name,
+            report.adapter.backend
+        );
+        match stats.gpu.as_ref().map(|g| &g.timings) {
+            Some(t @ Timings::Passes(_)) => {
+                println!("{t}; frame {:.3} ms", t.total_ms().unwrap_or(0.0))
+            }
+            _ => println!("GPU timestamps: not supported by this device"),
+        }
+        println!(
+            "PPLL: {} of {} nodes used, {} fragments dropped ({:.1} MiB)",
+            report.ppll.used,
+            report.ppll.capacity,
+            report.ppll.dropped,
+            report.ppll.bytes as f64 / (1u64 << 20) as f64
+        );
+    }
+    Ok(())
+}
+
+/// Render one frame of a prepared scene offscreen and read it back.
+pub(crate) fn render_frame(
+    ctx: &GpuContext,
+    scene: &Scene,
+    prepared: &PreparedScene,
+    size: [u32; 2],
+) -> Result<(tress_render::LinearImage, FrameStats)> {
+    let mut renderer = Renderer::new(ctx, TargetFormats::default(), prepared.strands.clone())?;
+    let targets = OffscreenTargets::new(ctx, size, COLOR_FORMAT)?;
+    let hair = prepared
+        .hair
+        .as_ref()
+        .map(|h| renderer.upload_hair(ctx, h))
+        .transpose()?;
+    let head = prepared
+        .head
+        .as_ref()
+        .map(|m| HeadGeometry::new(ctx, m))
+        .transpose()?;
+    let bg = prepared.background;
+    let inputs = FrameInputs {
+        camera: PreparedScene::camera(scene, size),
+        lights: &prepared.lights,
+        ambient: Vec3::splat(AMBIENT),
+        material: prepared.material,
+        hair: hair.as_ref(),
+        head: head.as_ref(),
+        clear: Some(wgpu::Color {
+            r: bg.x.into(),
+            g: bg.y.into(),
+            b: bg.z.into(),
+            a: 1.0,
+        }),
+    };
+    // The PPLL pool grows after a frame that dropped fragments (up to its cap): an offline
+    // render repeats the frame until nothing is dropped or the pool cannot grow any more.
+    let mut stats = renderer.render(ctx, &targets.targets(), &inputs)?;
+    for _ in 0..MAX_REGROW_FRAMES {
+        let dropped = stats.gpu.as_ref().map_or(0, |g| g.ppll.dropped);
+        let capacity = stats.ppll_capacity;
+        if dropped == 0 {
+            break;
+        }
+        let next = renderer.render(ctx, &targets.targets(), &inputs)?;
+        let grew = next.ppll_capacity > capacity;
+        stats = next;
+        if !grew {
+            break;
+        }
+    }
+    let image = read_texture(ctx, &targets.color).context("reading the frame back")?;
+    Ok((image, stats))
+}
+
+/// Most extra frames an offline render spends growing the PPLL pool.
+const MAX_REGROW_FRAMES: usize = 3;
+
+/// Constant ambient light added to every technique's shading (linear RGB per channel).
+pub(crate) const AMBIENT: f32 = 0.08;
+
+fn report(
+    ctx: &GpuContext,
+    scene: &Scene,
+    output: &Path,
+    strands: usize,
+    segments: usize,
+    stats: &FrameStats,
+) -> Report {
+    let (passes, frame_gpu_ms) = match stats.gpu.as_ref().map(|g| &g.timings) {
+        Some(Timings::Passes(p)) => (
+            p.iter()
+                .map(|t| Pass {
+                    name: t.name.to_string(),
+                    gpu_ms: t.ms,
+                })
+                .collect(),
+            Some(p.iter().map(|t| t.ms).sum()),
+        ),
+        _ => (Vec::new(), None),
+    };
+    let ppll = stats.gpu.as_ref().map(|g| &g.ppll);
+    Report {
+        technique: scene.technique.clone(),
+        width: stats.size[0],
+        height: stats.size[1],
+        strands,
+        segments,
+        adapter: Adapter {
+            name: ctx.adapter_info.name.clone(),
+            backend: format!("{:?}", ctx.adapter_info.backend).to_lowercase(),
+        },
+        passes,
+        frame_gpu_ms,
+        ppll: Ppll {
+            capacity: stats.ppll_capacity,
+            used: ppll.map_or(0, |p| p.used),
+            dropped: ppll.map_or(0, |p| p.dropped),
+            bytes: stats.ppll_bytes,
+        },
+        output: output.display().to_string(),
+    }
+}
+
+enum OutputKind {
+    Png,
+    Exr,
+}
+
+fn output_kind(path: &Path) -> Result<OutputKind> {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        Some("png") => Ok(OutputKind::Png),
+        Some("exr") => Ok(OutputKind::Exr),
+        _ => bail!("{}: the output must end in .png or .exr", path.display()),
+    }
+}

@@ -1,0 +1,113 @@
+//! `tress render` end to end on a tiny generated asset, through the real GPU path (lavapipe in
+//! CI). Like every GPU test here it fails without an adapter unless TRESS_SKIP_GPU_TESTS=1.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn tress(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_tress"))
+        .args(args)
+        .output()
+        .expect("run tress")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("tress-render-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn skip_gpu() -> bool {
+    std::env::var("TRESS_SKIP_GPU_TESTS").is_ok_and(|v| v == "1")
+}
+
+fn expect_rendered(out: &Output) {
+    assert!(
+        out.status.success(),
+        "tress render failed (GPU tests need a Vulkan adapter: install mesa-vulkan-drivers for \
+         lavapipe, or set TRESS_SKIP_GPU_TESTS=1 to skip on purpose): {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn render_hair_file_writes_png_and_one_json_object() {
+    if skip_gpu() {
+        return;
+    }
+    let hair = tmp("tiny.hair");
+    let png = tmp("tiny.png");
+    let gen_out = tress(&[
+        "generate",
+        "straight",
+        "-o",
+        hair.to_str().unwrap(),
+        "--strands",
+        "200",
+        "--vertices",
+        "8",
+    ]);
+    assert!(gen_out.status.success());
+    let out = tress(&[
+        "render",
+        hair.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--width",
+        "96",
+        "--height",
+        "64",
+        "--set",
+        "strands.k=4",
+        "--json",
+    ]);
+    expect_rendered(&out);
+    let v: serde_json::Value =
+        serde_json::from_slice(&out.stdout).expect("exactly one JSON object");
+    assert_eq!(v["technique"], "strands");
+    assert_eq!(
+        (v["width"].as_u64(), v["height"].as_u64()),
+        (Some(96), Some(64))
+    );
+    assert_eq!(v["strands"], 200);
+    assert_eq!(v["segments"], 200 * 7);
+    assert!(v["adapter"]["name"].is_string() && v["adapter"]["backend"].is_string());
+    assert!(v["passes"].is_array());
+    if let Some(passes) = v["passes"].as_array().filter(|p| !p.is_empty()) {
+        let sum: f64 = passes.iter().map(|p| p["gpu_ms"].as_f64().unwrap()).sum();
+        assert!((sum - v["frame_gpu_ms"].as_f64().unwrap()).abs() < 1e-6);
+    }
+    let used = v["ppll"]["used"].as_u64().unwrap();
+    assert!(used > 0 && used <= v["ppll"]["capacity"].as_u64().unwrap());
+    assert_eq!(v["ppll"]["dropped"], 0);
+    assert_eq!(v["output"], png.to_str().unwrap());
+
+    // The image has the requested size and shows hair: pixels differ from the flat background.
+    let img = image::open(&png).unwrap().to_rgba8();
+    assert_eq!(img.dimensions(), (96, 64));
+    let bg = *img.get_pixel(0, 0);
+    let differing = img.pixels().filter(|p| **p != bg).count();
+    assert!(
+        differing > 96 * 64 / 50,
+        "only {differing} pixels differ from the background"
+    );
+}
+
+#[test]
+fn render_rejects_bad_settings_with_one_line() {
+    let png = tmp("x.png");
+    for (set, needle) in [
+        ("strands.k=0", "strands.k"),
+        ("strands.kk=3", "kk"),
+        ("camera.fov_y_deg=abc", "fov_y_deg"),
+    ] {
+        let out = tress(&["render", "-o", png.to_str().unwrap(), "--set", set]);
+        assert_eq!(out.status.code(), Some(2), "{set}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains(needle), "{err} should name {needle}");
+    }
+    let out = tress(&["render", "-o", tmp("x.jpg").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("x.jpg"));
+}

@@ -1,0 +1,325 @@
+//! From a [`tress_scene::Scene`] to what a frame needs: hair, head mesh, lights, material, camera
+//! and technique settings. The CLI, the benchmarks and the viewer all go through here, so a
+//! scene renders the same everywhere.
+//!
+//! Several `[[hair]]` entries are merged into one asset and drawn with the first entry's
+//! material (the renderer has one hair material per frame).
+
+use std::path::Path;
+
+use glam::Vec3;
+use serde::Deserialize;
+use tress_hair::HairAsset;
+use tress_scene::{HeadSource, Scene};
+
+use crate::{Camera, DirectionalLight, HeadMesh, Material, RenderError, Shading, StrandSettings};
+
+/// A scene resolved into renderer inputs (CPU side; upload with the renderer).
+#[derive(Clone, Debug)]
+pub struct PreparedScene {
+    /// All hair entries merged (`None` when the scene has no hair).
+    pub hair: Option<HairAsset>,
+    /// The head mesh, if the scene has one.
+    pub head: Option<HeadMesh>,
+    /// Directional lights, in the renderer's convention (direction of travel).
+    pub lights: Vec<DirectionalLight>,
+    /// Hair material of the first hair entry (defaults without hair).
+    pub material: Material,
+    /// Background (clear) color, linear RGB.
+    pub background: Vec3,
+    /// Strand technique settings from `[strands]`.
+    pub strands: StrandSettings,
+}
+
+impl PreparedScene {
+    /// Load the scene's hair and head and convert its settings. Errors name the file or key.
+    pub fn load(scene: &Scene) -> Result<PreparedScene, RenderError> {
+        let assets = scene.load_hair().map_err(scene_error)?;
+        let hair = if assets.is_empty() {
+            None
+        } else {
+            Some(HairAsset::merge(&assets).map_err(|e| RenderError::Invalid(e.to_string()))?)
+        };
+        let head = match scene.head_source() {
+            HeadSource::None => None,
+            HeadSource::Obj(path) => Some(read_obj_mesh(&path)?),
+            HeadSource::Generated(head) => {
+                let m = head.mesh(64);
+                Some(HeadMesh {
+                    positions: m.positions,
+                    normals: m.normals,
+                    indices: m.indices,
+                })
+            }
+        };
+        let lights = scene
+            .lights
+            .iter()
+            .map(|l| DirectionalLight {
+                direction: -l.to_light(),
+                color: l.color,
+                intensity: l.intensity,
+            })
+            .collect();
+        let material = scene
+            .hair
+            .first()
+            .map(|h| material(&h.material))
+            .unwrap_or_default();
+        let strands = strand_settings(scene)?;
+        Ok(PreparedScene {
+            hair,
+            head,
+            lights,
+            material,
+            background: scene.background,
+            strands,
+        })
+    }
+
+    /// The scene camera for a target of `size` pixels.
+    pub fn camera(scene: &Scene, size: [u32; 2]) -> Camera {
+        let c = &scene.camera;
+        Camera::look_at(
+            c.eye,
+            c.target,
+            c.up,
+            c.fov_y_deg.to_radians(),
+            c.near,
+            c.far,
+            size,
+        )
+    }
+}
+
+/// A camera framing `bounds` (min, max) from the front three-quarter view, with the near and
+/// far planes around it: what `tress render hair-file` uses when no scene gives a camera.
+pub fn frame_bounds(scene: &mut Scene, min: Vec3, max: Vec3) {
+    let center = (min + max) * 0.5;
+    let radius = ((max - min).length() * 0.5).max(1e-3);
+    let fov = scene.camera.fov_y_deg.to_radians();
+    let aspect = scene.output.aspect().min(1.0);
+    let distance = radius / ((fov * 0.5).tan() * aspect).atan().sin() * 1.05;
+    let dir = Vec3::new(0.45, 0.2, 1.0).normalize();
+    scene.camera.eye = center + dir * distance;
+    scene.camera.target = center;
+    scene.camera.up = Vec3::Y;
+    scene.camera.near = (distance - radius * 1.5).max(distance * 1e-3);
+    scene.camera.far = distance + radius * 1.5;
+}
+
+fn material(m: &tress_scene::Material) -> Material {
+    Material {
+        base_color: m.base_color,
+        primary_color: m.primary_color,
+        primary_exponent: m.primary_exponent,
+        primary_shift: m.primary_shift,
+        secondary_color: m.secondary_color,
+        secondary_exponent: m.secondary_exponent,
+        secondary_shift: m.secondary_shift,
+        ..Material::default()
+    }
+}
+
+fn scene_error(e: tress_scene::SceneError) -> RenderError {
+    RenderError::Invalid(e.to_string())
+}
+
+/// The `[strands]` table: every key optional, unknown keys are errors naming key and line.
+#[derive(Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields, default)]
+struct StrandTable {
+    width_px: Option<f32>,
+    alpha: Option<f32>,
+    shading: Option<String>,
+    coverage: Option<bool>,
+    thickness_fade: Option<bool>,
+    k: Option<u32>,
+    ppll_nodes_per_pixel: Option<f32>,
+    ppll_max_mib: Option<f64>,
+    shadows: Option<bool>,
+    shadow_map_size: Option<u32>,
+    shadow_r: Option<f32>,
+    shadow_alpha: Option<f32>,
+    pcf_radius: Option<u32>,
+    shadow_bias: Option<f32>,
+    shadow_width_px: Option<f32>,
+}
+
+/// Strand settings from the scene's `[strands]` table over [`StrandSettings::default`].
+pub fn strand_settings(scene: &Scene) -> Result<StrandSettings, RenderError> {
+    let t: StrandTable = scene.technique_settings("strands").map_err(scene_error)?;
+    let mut s = StrandSettings::default();
+    macro_rules! set {
+        ($($f:ident),*) => { $( if let Some(v) = t.$f { s.$f = v; } )* };
+    }
+    set!(
+        width_px,
+        alpha,
+        coverage,
+        thickness_fade,
+        k,
+        ppll_nodes_per_pixel,
+        shadows,
+        shadow_map_size,
+        shadow_r,
+        shadow_alpha,
+        pcf_radius,
+        shadow_bias,
+        shadow_width_px
+    );
+    if let Some(name) = &t.shading {
+        s.shading = name.parse::<Shading>()?;
+    }
+    if let Some(mib) = t.ppll_max_mib {
+        if !(mib.is_finite() && mib > 0.0) {
+            return Err(RenderError::Invalid(
+                "strands.ppll_max_mib must be positive".into(),
+            ));
+        }
+        s.ppll_max_bytes = (mib * (1u64 << 20) as f64) as u64;
+    }
+    s.validate()?;
+    Ok(s)
+}
+
+/// Read a triangle mesh (positions, normals; faces triangulated) from an OBJ file. Missing
+/// normals are computed from the faces. Errors name the file.
+pub fn read_obj_mesh(path: &Path) -> Result<HeadMesh, RenderError> {
+    let fail = |why: String| RenderError::Invalid(format!("{}: {why}", path.display()));
+    let bytes = std::fs::read(path).map_err(|e| fail(e.to_string()))?;
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ..Default::default()
+    };
+    let (models, _) = tobj::load_obj_buf(&mut bytes.as_slice(), &options, |_| {
+        Err(tobj::LoadError::OpenFileFailed)
+    })
+    .map_err(|e| fail(format!("not a valid OBJ file ({e})")))?;
+    let mut mesh = HeadMesh::default();
+    for m in &models {
+        let m = &m.mesh;
+        let base = mesh.positions.len() as u32;
+        let positions: Vec<Vec3> = m
+            .positions
+            .chunks_exact(3)
+            .map(|p| Vec3::new(p[0], p[1], p[2]))
+            .collect();
+        let normals: Vec<Vec3> = if m.normals.len() == m.positions.len() {
+            m.normals
+                .chunks_exact(3)
+                .map(|n| Vec3::new(n[0], n[1], n[2]))
+                .collect()
+        } else {
+            face_normals(&positions, &m.indices)
+        };
+        if m.indices.iter().any(|&i| i as usize >= positions.len()) {
+            return Err(fail("a face refers to a vertex that does not exist".into()));
+        }
+        mesh.positions.extend(positions);
+        mesh.normals.extend(normals);
+        mesh.indices.extend(m.indices.iter().map(|i| i + base));
+    }
+    if mesh.indices.is_empty() {
+        return Err(fail("the OBJ file has no faces".into()));
+    }
+    mesh.validate().map_err(|e| fail(e.to_string()))?;
+    Ok(mesh)
+}
+
+/// Area-weighted vertex normals of a triangle list (indices must be in range).
+fn face_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
+    let mut n = vec![Vec3::ZERO; positions.len()];
+    for t in indices.chunks_exact(3) {
+        let [a, b, c] = [t[0], t[1], t[2]].map(|i| i as usize);
+        if a.max(b).max(c) >= positions.len() {
+            continue;
+        }
+        let face = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
+        for i in [a, b, c] {
+            n[i] += face;
+        }
+    }
+    n.iter().map(|v| v.normalize_or_zero()).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strand_table_overrides_defaults_and_rejects_unknown_keys() {
+        let mut scene =
+            Scene::from_str("[strands]\nk = 8\nshading = \"scheuermann\"\n", ".").unwrap();
+        let s = strand_settings(&scene).unwrap();
+        assert_eq!(s.k, 8);
+        assert_eq!(s.shading, Shading::Scheuermann);
+        assert_eq!(s.width_px, StrandSettings::default().width_px);
+        scene.apply_override("strands.ppll_max_mib=1").unwrap();
+        assert_eq!(strand_settings(&scene).unwrap().ppll_max_bytes, 1 << 20);
+
+        let bad = Scene::from_str("\n[strands]\nkk = 8\n", ".").unwrap();
+        let err = strand_settings(&bad).unwrap_err().to_string();
+        assert!(err.contains("kk") && err.contains("line 3"), "{err}");
+        let bad = Scene::from_str("[strands]\nk = 0\n", ".").unwrap();
+        assert!(
+            strand_settings(&bad)
+                .unwrap_err()
+                .to_string()
+                .contains("strands.k")
+        );
+    }
+
+    #[test]
+    fn lights_flip_to_the_renderer_convention() {
+        let scene = Scene::from_str("[[light]]\ndirection = [0.0, 2.0, 0.0]\n", ".").unwrap();
+        let p = PreparedScene::load(&scene).unwrap();
+        assert_eq!(p.lights.len(), 1);
+        // The scene points towards the light; the renderer stores the direction of travel.
+        assert!((p.lights[0].direction - Vec3::NEG_Y).length() < 1e-6);
+        assert!((p.lights[0].to_light().unwrap() - Vec3::Y).length() < 1e-6);
+    }
+
+    #[test]
+    fn framing_puts_the_bounds_inside_the_view() {
+        let mut scene = Scene::from_str("", ".").unwrap();
+        let (min, max) = (Vec3::new(-3.0, -10.0, -2.0), Vec3::new(5.0, 4.0, 6.0));
+        frame_bounds(&mut scene, min, max);
+        let cam = PreparedScene::camera(&scene, [640, 360]);
+        for i in 0..8 {
+            let corner = Vec3::new(
+                if i & 1 == 0 { min.x } else { max.x },
+                if i & 2 == 0 { min.y } else { max.y },
+                if i & 4 == 0 { min.z } else { max.z },
+            );
+            let clip = cam.clip_from_world() * corner.extend(1.0);
+            let ndc = clip.truncate() / clip.w;
+            assert!(
+                ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0,
+                "corner {corner} at {ndc}"
+            );
+            assert!(
+                (0.0..=1.0).contains(&ndc.z),
+                "corner {corner} depth {}",
+                ndc.z
+            );
+        }
+    }
+
+    #[test]
+    fn obj_meshes_load_with_normals_and_reject_garbage() {
+        let dir = std::env::temp_dir().join(format!("tress-obj-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let good = dir.join("tri.obj");
+        std::fs::write(&good, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+        let m = read_obj_mesh(&good).unwrap();
+        assert_eq!(m.indices, vec![0, 1, 2]);
+        assert!(m.normals.iter().all(|n| (*n - Vec3::Z).length() < 1e-6));
+        let bad = dir.join("bad.obj");
+        std::fs::write(&bad, "v 0 0 0\nf 1 2 3\n").unwrap();
+        let err = read_obj_mesh(&bad).unwrap_err().to_string();
+        assert!(err.contains("bad.obj"), "{err}");
+        assert!(read_obj_mesh(&dir.join("missing.obj")).is_err());
+    }
+}
