@@ -39,6 +39,7 @@ mod frame;
 pub mod gpu;
 pub mod head;
 mod inputs;
+pub mod scene_setup;
 pub mod shaders;
 mod stats;
 pub mod strands;
@@ -51,8 +52,12 @@ pub use gpu::{
 };
 pub use head::{HeadGeometry, HeadMesh};
 pub use inputs::{Camera, DirectionalLight, Material};
+pub use scene_setup::PreparedScene;
 pub use stats::{FrameStats, GpuReport, StatsReadback};
 pub use strands::{PpllStats, Shading, StrandGeometry, StrandSettings};
+
+/// The wgpu version this crate is built on, for callers that need its types.
+pub use wgpu;
 
 /// Most directional lights a frame can have (one shadow map each).
 pub const MAX_LIGHTS: usize = 4;
