@@ -1,6 +1,7 @@
 //! Hair strand assets for tress: the [`HairAsset`] data model (structure of arrays), its
 //! operations (transform, resample, subset, merge, follow hairs), file formats (Cem Yuksel `.hair`,
-//! TressFX `.tfx`) and procedural generators (a head and hair styles grown from its scalp).
+//! TressFX `.tfx`), procedural generators (a head and hair styles grown from its scalp) and the
+//! polygon-patch hair model ([`patches`]: patch meshes, their textures, AO bake and sort).
 //!
 //! This crate has no GPU dependency. Everything that reads user data returns a typed [`HairError`]
 //! and never panics.
@@ -12,6 +13,7 @@ pub mod formats;
 pub mod generate;
 mod merge;
 mod ops;
+pub mod patches;
 pub mod rng;
 
 pub use asset::{Aabb, HairAsset, LengthStats};

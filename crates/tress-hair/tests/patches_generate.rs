@@ -34,7 +34,10 @@ fn check_frames(mesh: &PatchMesh) {
     for ((n, t), uv) in mesh.normals().iter().zip(mesh.tangents()).zip(mesh.uvs()) {
         assert!((n.length() - 1.0).abs() < 1e-4);
         assert!((t.length() - 1.0).abs() < 1e-4);
-        assert!(n.dot(*t).abs() < 1e-3, "normal {n} not perpendicular to tangent {t}");
+        assert!(
+            n.dot(*t).abs() < 1e-3,
+            "normal {n} not perpendicular to tangent {t}"
+        );
         assert!((0.0..=1.0).contains(&uv.x) && (0.0..=1.0).contains(&uv.y));
     }
 }
@@ -46,10 +49,16 @@ fn generated_layers_are_strips_outside_the_head() {
     let rows = p.segments as usize + 1;
     // Every patch is a strip of 2 vertices per row and 2 triangles per segment.
     assert_eq!(mesh.vertex_count(), mesh.component_count() * 2 * rows);
-    assert_eq!(mesh.triangle_count(), mesh.component_count() * 2 * p.segments as usize);
+    assert_eq!(
+        mesh.triangle_count(),
+        mesh.component_count() * 2 * p.segments as usize
+    );
     // About `patches_per_layer` per layer (the lattice is cut by the hairline).
     let per_layer = mesh.component_count() as f32 / p.layers as f32;
-    assert!((per_layer - 40.0).abs() <= 6.0, "{per_layer} patches per layer");
+    assert!(
+        (per_layer - 40.0).abs() <= 6.0,
+        "{per_layer} patches per layer"
+    );
     check_frames(&mesh);
     let head = p.head;
     for (&x, &n) in mesh.positions().iter().zip(mesh.normals()) {
@@ -77,12 +86,18 @@ fn normals_face_out_and_triangles_wind_with_them() {
         let [a, b, cc] = mesh.triangle(t);
         let face = (b - a).cross(cc - a);
         let i = mesh.indices()[3 * t] as usize;
-        assert!(face.dot(mesh.normals()[i]) > 0.0, "triangle {t} winds against its normal");
+        assert!(
+            face.dot(mesh.normals()[i]) > 0.0,
+            "triangle {t} winds against its normal"
+        );
         if mesh.normals()[i].dot(a - c) > 0.0 {
             outward += 1;
         }
     }
-    assert!(outward as f32 > 0.95 * mesh.triangle_count() as f32, "{outward}");
+    assert!(
+        outward as f32 > 0.95 * mesh.triangle_count() as f32,
+        "{outward}"
+    );
 }
 
 #[test]
@@ -108,7 +123,10 @@ fn inner_layers_are_shorter_and_closer() {
         }
         assert!(!lengths.is_empty(), "layer {layer} is empty");
         let n = lengths.len() as f32;
-        (lengths.iter().sum::<f32>() / n, levels.iter().sum::<f32>() / n)
+        (
+            lengths.iter().sum::<f32>() / n,
+            levels.iter().sum::<f32>() / n,
+        )
     };
     let (l0, h0) = per_layer_len(0);
     let (l1, h1) = per_layer_len(1);
@@ -127,12 +145,31 @@ fn generation_is_deterministic_and_validated() {
     let b = generate_patches(&PatchParams { seed: 9, ..small() }).unwrap();
     assert_ne!(a.positions(), b.positions());
     for bad in [
-        PatchParams { layers: 0, ..small() },
-        PatchParams { segments: 0, ..small() },
-        PatchParams { length: f32::NAN, ..small() },
-        PatchParams { width: 0.0, ..small() },
-        PatchParams { inner_length: 1.5, ..small() },
-        PatchParams { patches_per_layer: u32::MAX, layers: u32::MAX, ..small() },
+        PatchParams {
+            layers: 0,
+            ..small()
+        },
+        PatchParams {
+            segments: 0,
+            ..small()
+        },
+        PatchParams {
+            length: f32::NAN,
+            ..small()
+        },
+        PatchParams {
+            width: 0.0,
+            ..small()
+        },
+        PatchParams {
+            inner_length: 1.5,
+            ..small()
+        },
+        PatchParams {
+            patches_per_layer: u32::MAX,
+            layers: u32::MAX,
+            ..small()
+        },
         PatchParams {
             head: Head {
                 radii: Vec3::new(1.0, -1.0, 1.0),
@@ -245,7 +282,10 @@ fn strands_become_ribbons_that_follow_and_span_their_group() {
     for ribbon in mesh.positions().chunks_exact(10) {
         for (r, pair) in ribbon.chunks_exact(2).enumerate() {
             let centre = (pair[0] + pair[1]) * 0.5;
-            assert!((centre.y + r as f32 * 2.5).abs() < 1e-4, "follows the mean strand");
+            assert!(
+                (centre.y + r as f32 * 2.5).abs() < 1e-4,
+                "follows the mean strand"
+            );
             assert!(
                 (centre.x.abs() < 1e-4) || ((centre.x - 10.0).abs() < 1e-4),
                 "{centre}"
@@ -313,9 +353,24 @@ fn cards_from_a_generated_style_cover_the_head() {
             .chunks_exact(2)
             .all(|q| (q[0].distance(q[1]) - 0.2).abs() < 1e-5)
     );
-    assert!(PatchMesh::from_strands(&few, &CardParams { cards: 0, ..CardParams::default() }).is_err());
     assert!(
-        PatchMesh::from_strands(&few, &CardParams { min_width: 0.0, ..CardParams::default() })
-            .is_err()
+        PatchMesh::from_strands(
+            &few,
+            &CardParams {
+                cards: 0,
+                ..CardParams::default()
+            }
+        )
+        .is_err()
+    );
+    assert!(
+        PatchMesh::from_strands(
+            &few,
+            &CardParams {
+                min_width: 0.0,
+                ..CardParams::default()
+            }
+        )
+        .is_err()
     );
 }

@@ -5,10 +5,22 @@
 //!
 //! For each vertex, `rays` directions are drawn from a cosine-weighted hemisphere around the
 //! vertex normal and cast against every triangle of the patches and of the head (one
-//! [bounding-volume hierarchy](super::bvh) over both). A ray is blocked when it meets a triangle
-//! closer than `max_distance`; the hemisphere's visibility is the fraction of rays that are not
-//! blocked. With cosine-weighted directions this fraction estimates the cosine-weighted
-//! visibility integral `(1/π)∫ V(ω) cos θ dω`, the usual ambient occlusion.
+//! bounding-volume hierarchy over both). Only triangles closer than `max_distance` count. The
+//! hemisphere's visibility is the mean over its rays of the light each lets through; with
+//! cosine-weighted directions this estimates the cosine-weighted visibility integral
+//! `(1/π)∫ V(ω) cos θ dω`, the usual ambient occlusion.
+//!
+//! # Opacity of the patches
+//!
+//! The head is opaque. With `patch_opacity = 1` (the paper's plain ray casting) so is every
+//! patch, and a ray is blocked by the first patch it meets. But the patches are alpha-textured
+//! and let light through between their strands; treated as opaque sheets, the stacked layers of
+//! a generated head with overlapping strips can leave most vertices almost black. So each patch
+//! a ray crosses lets `1 − patch_opacity` of the light through, and a ray's visibility is the
+//! product over the patches it crosses (its transmittance; a ray left with less than 1/1024 counts
+//! as blocked). The default 0.6 is about the mean coverage of the default alpha texture
+//! ([`super::texture`]); on the default generated head it gives the outer layer a mean AO of
+//! about 0.8 and the layers under it 0.3 to 0.4.
 //!
 //! # Two-sided patches
 //!
@@ -66,6 +78,9 @@ pub struct AoParams {
     pub seed: u64,
     /// Which hemispheres count. Default [`AoSides::Max`].
     pub sides: AoSides,
+    /// How much of the light a patch stops where a ray crosses it, in `[0, 1]` (1: opaque, as
+    /// the head always is). Default 0.6 (see the module docs).
+    pub patch_opacity: f32,
 }
 
 impl Default for AoParams {
@@ -75,6 +90,7 @@ impl Default for AoParams {
             max_distance: 8.0,
             seed: 0,
             sides: AoSides::Max,
+            patch_opacity: 0.6,
         }
     }
 }
@@ -83,8 +99,15 @@ impl Default for AoParams {
 const MAX_RAYS: u32 = 1 << 20;
 
 impl AoParams {
-    /// Check the parameters: `rays` in `1..=2^20`, `max_distance` finite and positive.
+    /// Check the parameters: `rays` in `1..=2^20`, `max_distance` finite and positive,
+    /// `patch_opacity` in `[0, 1]`.
     pub fn validate(&self) -> Result<(), HairError> {
+        if !(0.0..=1.0).contains(&self.patch_opacity) {
+            return Err(HairError::Parameter(format!(
+                "AO patch opacity must lie in [0, 1], got {}",
+                self.patch_opacity
+            )));
+        }
         if !(1..=MAX_RAYS).contains(&self.rays) {
             return Err(HairError::Parameter(format!(
                 "AO rays must lie in 1..={MAX_RAYS}, got {}",
@@ -118,14 +141,21 @@ pub fn bake_ao(
     let mut bounds = mesh.bounds();
     if let Some(head) = head {
         check_head(head)?;
-        triangles.extend(head.indices.chunks_exact(3).map(|t| {
-            [0, 1, 2].map(|k| head.positions[t[k] as usize])
-        }));
+        triangles.extend(
+            head.indices
+                .chunks_exact(3)
+                .map(|t| [0, 1, 2].map(|k| head.positions[t[k] as usize])),
+        );
         if let Some(b) = Aabb::from_points(&head.positions) {
             bounds = Some(bounds.map_or(b, |m| m.union(&b)));
         }
     }
-    let bvh = Bvh::new(&triangles);
+    let patches = mesh.triangle_count();
+    let patch_transmit = 1.0 - params.patch_opacity;
+    let bvh = Bvh::new(
+        &triangles,
+        |i| if i < patches { patch_transmit } else { 0.0 },
+    );
     let diagonal = bounds.map_or(1.0, |b| b.size().length());
     let epsilon = (diagonal * 1e-4).max(f32::MIN_POSITIVE);
 
@@ -136,9 +166,8 @@ pub fn bake_ao(
         .enumerate()
         .map(|(i, (&p, &n))| {
             let mut rng = Rng::stream(params.seed, i as u64);
-            let mut open = |axis: Vec3| {
-                visibility(&bvh, p + axis * epsilon, axis, params, &mut rng)
-            };
+            let mut open =
+                |axis: Vec3| visibility(&bvh, p + axis * epsilon, axis, params, &mut rng);
             match params.sides {
                 AoSides::Front => open(n),
                 AoSides::Max => open(n).max(open(-n)),
@@ -149,11 +178,11 @@ pub fn bake_ao(
     mesh.set_ao(ao)
 }
 
-/// Fraction of `params.rays` cosine-weighted rays around `axis` from `origin` that reach
-/// `max_distance` unblocked.
+/// Mean transmittance of `params.rays` cosine-weighted rays around `axis` from `origin` up to
+/// `max_distance`.
 fn visibility(bvh: &Bvh, origin: Vec3, axis: Vec3, params: &AoParams, rng: &mut Rng) -> f32 {
     let (b1, b2) = axis.any_orthonormal_pair();
-    let mut open = 0u32;
+    let mut open = 0.0f32;
     for _ in 0..params.rays {
         // Malley's method: a uniform point on the disk lifted to the hemisphere.
         let r = rng.f32().sqrt();
@@ -161,11 +190,9 @@ fn visibility(bvh: &Bvh, origin: Vec3, axis: Vec3, params: &AoParams, rng: &mut 
         let (s, c) = phi.sin_cos();
         let z = (1.0 - r * r).max(0.0).sqrt();
         let dir = (b1 * (r * c) + b2 * (r * s) + axis * z).normalize_or(axis);
-        if !bvh.occluded(origin, dir, 0.0, params.max_distance) {
-            open += 1;
-        }
+        open += bvh.transmittance(origin, dir, 0.0, params.max_distance);
     }
-    (open as f32 / params.rays as f32).clamp(0.0, 1.0)
+    (open / params.rays as f32).clamp(0.0, 1.0)
 }
 
 fn check_head(head: &TriMesh) -> Result<(), HairError> {

@@ -3,13 +3,17 @@
 //! Built top-down: each node splits its triangles at the centroid median of the longest axis of
 //! their centroid box (a full sort is not needed: `select_nth_unstable` partitions), down to
 //! leaves of at most [`LEAF_SIZE`] triangles. Nodes are stored depth-first, the left child right
-//! after its parent. Queries are any-hit: a ray stops at the first triangle it meets closer than
-//! its far distance, which is all ambient occlusion needs. Triangles are two-sided.
+//! after its parent. Triangles are two-sided and each lets a fraction of the light through (0 for
+//! opaque ones). A query returns the fraction that gets through along a ray segment, the product
+//! over the triangles it crosses; it stops at the first opaque triangle or once less than
+//! [`CUTOFF`] is left, so opaque scenes cost an any-hit query.
 
 use glam::Vec3;
 
 /// Most triangles in a leaf.
 const LEAF_SIZE: usize = 4;
+/// A ray whose transmittance falls below this counts as blocked.
+const CUTOFF: f32 = 1.0 / 1024.0;
 /// Traversal stack depth: median splits halve the count, so 64 covers any triangle count that
 /// fits memory.
 const STACK: usize = 64;
@@ -20,6 +24,8 @@ struct Tri {
     v0: Vec3,
     e1: Vec3,
     e2: Vec3,
+    /// Fraction of light let through, in `[0, 1]`.
+    transmit: f32,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -40,8 +46,9 @@ pub(crate) struct Bvh {
 }
 
 impl Bvh {
-    /// A hierarchy over the given triangles (degenerate ones are kept; they are never hit).
-    pub(crate) fn new(triangles: &[[Vec3; 3]]) -> Self {
+    /// A hierarchy over the given triangles, triangle `i` letting `transmit(i)` of the light
+    /// through (degenerate triangles are kept; they are never hit).
+    pub(crate) fn new(triangles: &[[Vec3; 3]], transmit: impl Fn(usize) -> f32) -> Self {
         let mut order: Vec<u32> = (0..triangles.len() as u32).collect();
         let centroids: Vec<Vec3> = triangles
             .iter()
@@ -59,16 +66,20 @@ impl Bvh {
                     v0: a,
                     e1: b - a,
                     e2: c - a,
+                    transmit: transmit(i as usize).clamp(0.0, 1.0),
                 }
             })
             .collect();
         Bvh { nodes, tris }
     }
 
-    /// Whether the ray `origin + t·dir`, `t_min < t < t_max`, hits any triangle.
-    pub(crate) fn occluded(&self, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> bool {
+    /// The fraction of light that gets through along the ray `origin + t·dir`,
+    /// `t_min < t < t_max`: 1 if it meets nothing, 0 if it meets an opaque triangle (or so many
+    /// translucent ones that less than [`CUTOFF`] is left).
+    pub(crate) fn transmittance(&self, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> f32 {
+        let mut left = 1.0;
         if self.nodes.is_empty() {
-            return false;
+            return left;
         }
         let inv = dir.recip();
         let mut stack = [0u32; STACK];
@@ -82,9 +93,13 @@ impl Bvh {
             }
             if node.count > 0 {
                 let first = node.index as usize;
-                let leaf = &self.tris[first..first + node.count as usize];
-                if leaf.iter().any(|t| hits_tri(t, origin, dir, t_min, t_max)) {
-                    return true;
+                for t in &self.tris[first..first + node.count as usize] {
+                    if hits_tri(t, origin, dir, t_min, t_max) {
+                        left *= t.transmit;
+                        if left < CUTOFF {
+                            return 0.0;
+                        }
+                    }
                 }
             } else if top + 2 <= STACK {
                 // The left child is stored right after its parent.
@@ -93,7 +108,7 @@ impl Bvh {
                 top += 2;
             }
         }
-        false
+        left
     }
 }
 
@@ -183,20 +198,24 @@ mod tests {
     use super::*;
     use crate::rng::Rng;
 
-    fn brute(tris: &[[Vec3; 3]], o: Vec3, d: Vec3, t_max: f32) -> bool {
-        tris.iter().any(|t| {
-            hits_tri(
-                &Tri {
-                    v0: t[0],
-                    e1: t[1] - t[0],
-                    e2: t[2] - t[0],
-                },
-                o,
-                d,
-                0.0,
-                t_max,
-            )
-        })
+    /// How many triangles the ray crosses.
+    fn brute(tris: &[[Vec3; 3]], o: Vec3, d: Vec3, t_max: f32) -> usize {
+        tris.iter()
+            .filter(|t| {
+                hits_tri(
+                    &Tri {
+                        v0: t[0],
+                        e1: t[1] - t[0],
+                        e2: t[2] - t[0],
+                        transmit: 0.0,
+                    },
+                    o,
+                    d,
+                    0.0,
+                    t_max,
+                )
+            })
+            .count()
     }
 
     #[test]
@@ -208,15 +227,28 @@ mod tests {
                 [0; 3].map(|_| c + rng.on_sphere() * rng.range(0.1, 1.5))
             })
             .collect();
-        let bvh = Bvh::new(&tris);
+        let bvh = Bvh::new(&tris, |_| 0.0);
+        let half = Bvh::new(&tris, |_| 0.5);
         let mut hits = 0;
         for _ in 0..4000 {
             let o = rng.on_sphere() * rng.range(0.0, 12.0);
             let d = rng.on_sphere();
             let t_max = rng.range(0.5, 20.0);
-            let expected = brute(&tris, o, d, t_max);
-            assert_eq!(bvh.occluded(o, d, 0.0, t_max), expected, "{o} {d} {t_max}");
-            hits += usize::from(expected);
+            let crossed = brute(&tris, o, d, t_max);
+            let expected = if crossed > 0 { 0.0 } else { 1.0 };
+            assert_eq!(
+                bvh.transmittance(o, d, 0.0, t_max),
+                expected,
+                "{o} {d} {t_max}"
+            );
+            let through = 0.5f32.powi(crossed as i32);
+            let expected = if through < CUTOFF { 0.0 } else { through };
+            assert_eq!(
+                half.transmittance(o, d, 0.0, t_max),
+                expected,
+                "{crossed} crossed"
+            );
+            hits += usize::from(crossed > 0);
         }
         assert!(hits > 500 && hits < 3500, "{hits}");
     }
@@ -224,15 +256,31 @@ mod tests {
     #[test]
     fn axis_aligned_rays_and_empty_scenes() {
         let quad = [
-            [Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0)],
-            [Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(-1.0, 1.0, 0.0)],
+            [
+                Vec3::new(-1.0, -1.0, 0.0),
+                Vec3::new(1.0, -1.0, 0.0),
+                Vec3::new(1.0, 1.0, 0.0),
+            ],
+            [
+                Vec3::new(-1.0, -1.0, 0.0),
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::new(-1.0, 1.0, 0.0),
+            ],
         ];
-        let bvh = Bvh::new(&quad);
+        let bvh = Bvh::new(&quad, |_| 0.0);
         let o = Vec3::new(0.2, 0.3, -2.0);
-        assert!(bvh.occluded(o, Vec3::Z, 0.0, 3.0));
-        assert!(bvh.occluded(o + 4.0 * Vec3::Z, Vec3::NEG_Z, 0.0, 3.0), "two-sided");
-        assert!(!bvh.occluded(o, Vec3::Z, 0.0, 1.5), "beyond t_max");
-        assert!(!bvh.occluded(o, Vec3::X, 0.0, 10.0));
-        assert!(!Bvh::new(&[]).occluded(o, Vec3::Z, 0.0, 10.0));
+        assert_eq!(bvh.transmittance(o, Vec3::Z, 0.0, 3.0), 0.0);
+        let back = o + 4.0 * Vec3::Z;
+        assert_eq!(
+            bvh.transmittance(back, Vec3::NEG_Z, 0.0, 3.0),
+            0.0,
+            "two-sided"
+        );
+        assert_eq!(bvh.transmittance(o, Vec3::Z, 0.0, 1.5), 1.0, "beyond t_max");
+        assert_eq!(bvh.transmittance(o, Vec3::X, 0.0, 10.0), 1.0);
+        let empty = Bvh::new(&[], |_| 0.0);
+        assert_eq!(empty.transmittance(o, Vec3::Z, 0.0, 10.0), 1.0);
+        let tinted = Bvh::new(&quad, |_| 0.25);
+        assert_eq!(tinted.transmittance(o, Vec3::Z, 0.0, 3.0), 0.25);
     }
 }

@@ -283,7 +283,8 @@ fn ribbon(
         let t = tangent[r];
         let lo = r.saturating_sub(SMOOTH);
         let hi = (r + SMOOTH).min(rows - 1);
-        let smooth: Mat3 = cov[lo..=hi].iter().copied().sum::<Mat3>() * (1.0 / (hi - lo + 1) as f32);
+        let smooth: Mat3 =
+            cov[lo..=hi].iter().copied().sum::<Mat3>() * (1.0 / (hi - lo + 1) as f32);
         let a = major_axis(&smooth, t, prev);
         let sigma = a.dot(smooth * a).max(0.0).sqrt();
         widths[r] = (params.width_scale * 2.0 * sigma).max(params.min_width);

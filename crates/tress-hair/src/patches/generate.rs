@@ -1,22 +1,32 @@
 //! Layered patch hair on the generated head (Scheuermann 2004, sketch "Hair model": "layered 2D
 //! polygon patches which provides a simple approximation of the volumetric qualities of hair").
 //!
-//! Each layer is a shell of strips ("patches"). Layer `k` of `L` (0 innermost) floats
-//! `layer_spacing × (k + 1)` above the scalp and its strips are
-//! `length × lerp(inner_length, 1, k / (L − 1))` long, so inner layers are shorter and closer and
-//! fill the volume under the outer ones. Roots are spread evenly over the scalp region of
-//! [`Head::scalp_point`] with a spherical Fibonacci lattice (rotated by a random angle per layer
-//! so that layers do not line up), then jittered.
+//! Each layer is a shell of strips ("patches") laid side by side around the head like the
+//! panels of a skirt, so that a layer covers what lies under it about once. Layer `k` of `L`
+//! (0 innermost):
+//!
+//! - floats `layer_spacing × (k + 1)` above the scalp;
+//! - is rooted on a ring of the scalp at scalp coordinate `v = lerp(0.95, 0.1, k / (L − 1))`
+//!   ([`Head::scalp_point`]: 0 is the crown, 1 the hairline), so the inner layer starts at the
+//!   hairline and the outer one near the crown;
+//! - has `patches_per_layer` strips evenly around its ring (every other layer offset by half a
+//!   strip, so seams do not line up; each root jittered a little);
+//! - has strips `length × lerp(inner_length, 1, k / (L − 1))` long (±15% per strip).
+//!
+//! Inner layers are thus shorter and closer to the head and fill the volume under the outer
+//! ones; a single layer is an outer one.
 //!
 //! A strip's centre line is grown in `segments` steps: it leaves the scalp combed back and away
-//! from the face, bends toward its pull (gravity, plus a comb toward the back on the upper head)
-//! and is pushed out to its layer's level of the ellipsoid after every step, so it lies on its
-//! shell while over the head and falls freely below it. Its cross direction lies in the shell
-//! (`normalize(tangent × outward)`), its normal points away from the head, and its width tapers
-//! from `width` at the root to `tip_width × width` at the tip. Everything random is drawn from
-//! [`Rng::stream`]`(seed, patch)`, so the result is deterministic.
+//! from the face, bends toward its pull (gravity, plus a comb toward the back on the upper head
+//! that runs along the head's surface) and is pushed out to its layer's level of the ellipsoid
+//! after every step, so it lies on its shell while over the head and falls freely below it. Its
+//! cross direction lies in the shell (`normalize(tangent × outward)`) and its normal points away
+//! from the head. Its width at each row is what covers the layer's circumference there with
+//! `overlap` to spare, `overlap × 2πρ / patches_per_layer` (ρ the distance from the head's
+//! vertical axis), at most `width`, narrowing toward the tip to `tip_width` of that. Everything
+//! random is drawn from [`Rng::stream`]`(seed, patch)`, so the result is deterministic.
 
-use std::f32::consts::{PI, TAU};
+use std::f32::consts::TAU;
 
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
@@ -32,10 +42,18 @@ const MAX_LENGTH: f32 = 1e6;
 const MAX_VERTICES: u64 = 1 << 28;
 /// Arc length over which the pull turns a strip's direction by about a radian.
 const BEND: f32 = 3.0;
-/// Strength of the comb toward the back on the upper head, relative to gravity.
-const COMB: f32 = 1.5;
-/// How far a root is jittered, as a fraction of the mean root spacing.
-const ROOT_JITTER: f32 = 0.35;
+/// Strength of the comb toward the back above the face, relative to gravity.
+const COMB: f32 = 4.5;
+/// How far a root is jittered around its ring, as a fraction of the strip spacing (±).
+const ROOT_JITTER: f32 = 0.3;
+/// How far a root is jittered across its ring, in scalp `v` (±).
+const RING_JITTER: f32 = 0.03;
+/// Scalp `v` of the inner layer's ring (near the hairline) and of the outer layer's (near the
+/// crown).
+const RING_INNER: f32 = 0.95;
+const RING_OUTER: f32 = 0.1;
+/// Narrowest strip, as a fraction of `width`.
+const MIN_WIDTH: f32 = 0.1;
 /// How much each strip's length varies (±).
 const LENGTH_JITTER: f32 = 0.15;
 
@@ -46,8 +64,7 @@ pub struct PatchParams {
     pub head: Head,
     /// Number of layers (at least 1). Default 4.
     pub layers: u32,
-    /// Patches per layer, approximately (the lattice is cut by the hairline; at least 1).
-    /// Default 160.
+    /// Patches around each layer (at least 1). Default 64.
     pub patches_per_layer: u32,
     /// Quads along each strip (at least 1). Default 12.
     pub segments: u32,
@@ -55,9 +72,11 @@ pub struct PatchParams {
     pub length: f32,
     /// The inner layer's length as a fraction of `length`, in `[0, 1]`. Default 0.5.
     pub inner_length: f32,
-    /// Strip width at the root (world units). Default 3.
+    /// Widest strip (world units, positive). Default 4.
     pub width: f32,
-    /// Strip width at the tip as a fraction of `width`, in `[0, 1]`. Default 0.6.
+    /// How much wider strips are than the gaps between their centres (at least 0). Default 1.3.
+    pub overlap: f32,
+    /// Strip width at the tip as a fraction of its width elsewhere, in `[0, 1]`. Default 0.7.
     pub tip_width: f32,
     /// Distance between layers, and of the inner layer from the scalp (world units). Default 0.3.
     pub layer_spacing: f32,
@@ -72,12 +91,13 @@ impl Default for PatchParams {
         PatchParams {
             head: Head::default(),
             layers: 4,
-            patches_per_layer: 160,
+            patches_per_layer: 64,
             segments: 12,
             length: 25.0,
             inner_length: 0.5,
-            width: 3.0,
-            tip_width: 0.6,
+            width: 4.0,
+            overlap: 1.3,
+            tip_width: 0.7,
             layer_spacing: 0.3,
             waviness: 0.05,
             seed: 0,
@@ -100,7 +120,7 @@ impl PatchParams {
             }
         }
         let vertices = u128::from(self.layers)
-            * u128::from(lattice_size(self.patches_per_layer))
+            * u128::from(self.patches_per_layer)
             * 2
             * (u128::from(self.segments) + 1);
         if vertices > u128::from(MAX_VERTICES) {
@@ -112,6 +132,7 @@ impl PatchParams {
         for (name, v) in [
             ("length", self.length),
             ("width", self.width),
+            ("overlap", self.overlap),
             ("layer spacing", self.layer_spacing),
             ("waviness", self.waviness),
         ] {
@@ -143,8 +164,8 @@ impl PatchParams {
 /// One strip to grow.
 #[derive(Clone, Copy, Debug)]
 struct Strip {
-    /// Lattice direction of the root on the unit sphere.
-    root: Vec3,
+    /// Scalp coordinate of the root (before jitter).
+    root: Vec2,
     layer: u32,
     stream: u64,
 }
@@ -153,35 +174,23 @@ struct Strip {
 /// layer by layer from the inside out; each is one component of the mesh.
 pub fn generate_patches(params: &PatchParams) -> Result<PatchMesh, HairError> {
     params.validate()?;
-    let lattice = lattice_size(params.patches_per_layer);
-    let mut strips = Vec::new();
+    let n = params.patches_per_layer;
+    let mut strips = Vec::with_capacity((params.layers * n) as usize);
     for layer in 0..params.layers {
-        let mut rng = Rng::stream(params.seed, u64::MAX - u64::from(layer));
-        let turn = rng.f32();
-        for i in 0..lattice {
-            // Spherical Fibonacci lattice: equal-area bands in y, golden-angle azimuths.
-            let y = 1.0 - 2.0 * (i as f32 + 0.5) / lattice as f32;
-            let phi = ((i as f32 * GOLDEN + turn) * TAU).rem_euclid(TAU);
-            let theta = y.clamp(-1.0, 1.0).acos();
-            if theta <= hairline(phi) {
-                let stream = strips.len() as u64;
-                strips.push(Strip {
-                    root: spherical(theta, phi),
-                    layer,
-                    stream,
-                });
-            }
+        let ring = RING_INNER + (RING_OUTER - RING_INNER) * depth(params, layer);
+        let stagger = if layer % 2 == 1 { 0.5 } else { 0.0 };
+        for i in 0..n {
+            let stream = strips.len() as u64;
+            strips.push(Strip {
+                root: Vec2::new((i as f32 + 0.5 + stagger) / n as f32, ring),
+                layer,
+                stream,
+            });
         }
-    }
-    if strips.is_empty() {
-        return Err(HairError::Parameter(
-            "no patch root falls on the scalp: raise patches per layer".into(),
-        ));
     }
 
     let rows = params.segments as usize + 1;
     let per_strip = 2 * rows;
-    let spacing = (4.0 * PI / lattice as f32).sqrt();
     let mut positions = vec![Vec3::ZERO; strips.len() * per_strip];
     let mut normals = vec![Vec3::ZERO; positions.len()];
     let mut tangents = vec![Vec3::ZERO; positions.len()];
@@ -191,7 +200,7 @@ pub fn generate_patches(params: &PatchParams) -> Result<PatchMesh, HairError> {
         .zip(tangents.par_chunks_mut(per_strip))
         .zip(strips.par_iter())
         .for_each(|(((p, n), t), strip)| {
-            grow(params, strip, spacing, p, n, t);
+            grow(params, strip, p, n, t);
         });
     let uvs: Vec<Vec2> = (0..strips.len())
         .flat_map(|_| {
@@ -213,77 +222,40 @@ pub fn generate_patches(params: &PatchParams) -> Result<PatchMesh, HairError> {
     PatchMesh::new(positions, normals, tangents, uvs, indices)
 }
 
-/// The golden ratio's fractional part: the Fibonacci lattice's azimuth step in turns.
-const GOLDEN: f32 = 0.618_034;
-
-/// Points in the whole-sphere lattice so that about `per_layer` fall on the scalp (which covers
-/// about 40% of the unit sphere, see [`scalp_fraction`]).
-fn lattice_size(per_layer: u32) -> u64 {
-    (f64::from(per_layer) / scalp_fraction()).ceil() as u64
-}
-
-/// Fraction of the unit sphere inside the hairline: the mean over azimuth of
-/// `(1 − cos hairline(φ)) / 2`.
-fn scalp_fraction() -> f64 {
-    let n = 360;
-    (0..n)
-        .map(|i| {
-            let phi = (i as f32 + 0.5) / n as f32 * TAU;
-            f64::from((1.0 - hairline(phi).cos()) / 2.0)
-        })
-        .sum::<f64>()
-        / f64::from(n)
-}
-
-/// Polar angle of the hairline at azimuth `phi`, read back from [`Head::scalp_point`] (whose
-/// `v = 1` is the hairline) on the unit sphere.
-fn hairline(phi: f32) -> f32 {
-    let unit = Head {
-        center: Vec3::ZERO,
-        radii: Vec3::ONE,
-    };
-    unit.scalp_point(Vec2::new(phi / TAU, 1.0))
-        .position
-        .y
-        .clamp(-1.0, 1.0)
-        .acos()
-}
-
-/// The unit vector at polar angle `theta` from +Y and azimuth `phi` from +Z toward +X (the
-/// head's convention).
-fn spherical(theta: f32, phi: f32) -> Vec3 {
-    let (st, ct) = theta.sin_cos();
-    let (sp, cp) = phi.sin_cos();
-    Vec3::new(st * sp, ct, st * cp)
+/// Layer `layer`'s place from the inside (0) to the outside (1); a single layer is outside.
+fn depth(params: &PatchParams, layer: u32) -> f32 {
+    if params.layers < 2 {
+        1.0
+    } else {
+        layer as f32 / (params.layers - 1) as f32
+    }
 }
 
 /// Grow one strip: positions, normals and tangents of its `rows` pairs of vertices (left, right).
 fn grow(
     params: &PatchParams,
     strip: &Strip,
-    spacing: f32,
     positions: &mut [Vec3],
     normals: &mut [Vec3],
     tangents: &mut [Vec3],
 ) {
     let head = &params.head;
     let mut rng = Rng::stream(params.seed, strip.stream);
-    let layers = params.layers.max(2) - 1;
-    let depth = strip.layer as f32 / layers as f32;
+    let depth = depth(params, strip.layer);
     let margin = params.layer_spacing * (strip.layer + 1) as f32 / head.radii.min_element();
     let length = params.length
         * (params.inner_length + (1.0 - params.inner_length) * depth)
         * (1.0 + LENGTH_JITTER * rng.range(-1.0, 1.0));
-    let dir = (strip.root + rng.on_sphere() * (ROOT_JITTER * spacing)).normalize_or(strip.root);
-    let phi = dir.x.atan2(dir.z).rem_euclid(TAU);
-    let theta = dir.y.clamp(-1.0, 1.0).acos().min(hairline(phi));
-    let (root, root_normal) = head.surface_point(spherical(theta, phi));
+    let n = params.patches_per_layer as f32;
+    let u = strip.root.x + ROOT_JITTER / n * rng.range(-1.0, 1.0);
+    let v = strip.root.y + RING_JITTER * rng.range(-1.0, 1.0);
+    let scalp = head.scalp_point(Vec2::new(u.rem_euclid(1.0), v.clamp(0.0, 1.0)));
     let rows = positions.len() / 2;
     let step = length / (rows - 1) as f32;
     let wobble = params.waviness * step;
 
-    let mut p = head.push_out(root, margin);
-    let mut dir = project(pull(head, p), root_normal).unwrap_or(Vec3::NEG_Y);
+    let mut p = head.push_out(scalp.position, margin);
+    let mut dir = project(pull(head, p), scalp.normal).unwrap_or(Vec3::NEG_Y);
     let mut centre = Vec::with_capacity(rows);
     centre.push(p);
     for _ in 1..rows {
@@ -309,12 +281,15 @@ fn grow(
             .try_normalize()
             .unwrap_or_else(|| project(across_prev, t).unwrap_or(t.any_orthonormal_vector()));
         across_prev = across;
-        let n = across.cross(t).normalize_or(outward);
+        let normal = across.cross(t).normalize_or(outward);
+        let axis = centre[r] - head.center;
+        let rho = (axis.x * axis.x + axis.z * axis.z).sqrt();
+        let cover = (params.overlap * TAU * rho / n).clamp(MIN_WIDTH * params.width, params.width);
         let fraction = r as f32 / (rows - 1) as f32;
-        let half = 0.5 * params.width * (1.0 - (1.0 - params.tip_width) * fraction);
+        let half = 0.5 * cover * (1.0 - (1.0 - params.tip_width) * fraction);
         positions[2 * r] = centre[r] - across * half;
         positions[2 * r + 1] = centre[r] + across * half;
-        normals[2 * r..2 * r + 2].fill(n);
+        normals[2 * r..2 * r + 2].fill(normal);
         tangents[2 * r..2 * r + 2].fill(t);
     }
 }
@@ -324,12 +299,17 @@ fn project(v: Vec3, axis: Vec3) -> Option<Vec3> {
     (v - axis * v.dot(axis)).try_normalize()
 }
 
-/// The pull on a strip at `p`: gravity, plus on the upper head a comb toward the back, strongest
-/// above the face (where it must beat gravity to sweep the hair back over the crown) and fading
-/// to nothing at the equator.
+/// The pull on a strip at `p`: gravity (which, once the strip is pushed back onto its shell,
+/// runs it down the head's meridians), plus above the face a comb toward the back that must
+/// beat gravity to sweep the hair back over the crown instead of over the face. The comb grows
+/// toward the front (`q.z`) and the top (`q.y`) of the unit-sphere position `q`, and runs along
+/// the head's surface so that it never lifts the hair off the head.
 fn pull(head: &Head, p: Vec3) -> Vec3 {
     let q = (p - head.center) / head.radii;
     let upper = q.y.clamp(0.0, 1.0);
     let front = q.z.max(0.0);
-    Vec3::NEG_Y + Vec3::NEG_Z * (COMB * upper * (1.0 + 2.0 * front))
+    // The ellipsoid's outward normal at the point's level.
+    let normal = (q / head.radii).normalize_or(Vec3::Y);
+    let comb = project(Vec3::NEG_Z, normal).unwrap_or(Vec3::ZERO);
+    Vec3::NEG_Y + comb * (COMB * upper * front)
 }

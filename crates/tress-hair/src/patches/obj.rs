@@ -45,6 +45,9 @@ impl PatchMesh {
     /// Errors: not an OBJ file `tobj` can parse, face indices out of range, faces without
     /// texture coordinates, no faces, or values that are not finite.
     pub fn from_obj(bytes: &[u8]) -> Result<Self, HairError> {
+        let text = std::str::from_utf8(bytes)
+            .map_err(|e| HairError::format(FORMAT, format!("not UTF-8 text: {e}")))?;
+        check_face_indices(text)?;
         let options = load_options();
         let mut reader = BufReader::new(bytes);
         let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| {
@@ -180,6 +183,53 @@ impl PatchMesh {
         let path = path.as_ref();
         std::fs::write(path, self.to_obj()).map_err(|e| HairError::from(e).in_file(path))
     }
+}
+
+/// Check every face (and line, which `tobj` reads as faces) index against the elements defined
+/// above it, as OBJ counts them (1-based, or negative: relative to the last one), before `tobj`
+/// sees the file: `tobj` trusts relative indices and can overflow on them.
+fn check_face_indices(text: &str) -> Result<(), HairError> {
+    const KINDS: [&str; 3] = ["vertex (v)", "texture coordinate (vt)", "normal (vn)"];
+    let mut count = [0i64; 3];
+    for (number, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => count[0] += 1,
+            Some("vt") => count[1] += 1,
+            Some("vn") => count[2] += 1,
+            Some("f" | "l") => {
+                for corner in words {
+                    let parts: Vec<&str> = corner.split('/').collect();
+                    if parts.len() > 3 {
+                        return Err(line_error(number, "a face corner has more than 3 indices"));
+                    }
+                    for (kind, part) in parts.iter().enumerate() {
+                        if part.is_empty() {
+                            continue;
+                        }
+                        let i: i64 = part.parse().map_err(|_| {
+                            line_error(number, &format!("'{part}' is not a face index"))
+                        })?;
+                        if i == 0 || i > count[kind] || i < -count[kind] {
+                            return Err(line_error(
+                                number,
+                                &format!(
+                                    "a face names a {} that does not exist (index {i} of {})",
+                                    KINDS[kind], count[kind]
+                                ),
+                            ));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+fn line_error(number: usize, reason: &str) -> HairError {
+    HairError::format(FORMAT, format!("line {}: {reason}", number + 1))
 }
 
 /// One index per distinct corner, fan-triangulated polygons, no points or lines. Set field by

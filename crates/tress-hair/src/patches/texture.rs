@@ -259,10 +259,7 @@ fn fill(
         .enumerate()
         .for_each(|(y, row)| {
             for (x, texel) in row.chunks_exact_mut(channels as usize).enumerate() {
-                let uv = Vec2::new(
-                    (x as f32 + 0.5) / w as f32,
-                    (y as f32 + 0.5) / h as f32,
-                );
+                let uv = Vec2::new((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32);
                 f(uv, texel);
             }
         });
