@@ -4,7 +4,7 @@ use glam::Vec3;
 use tress_hair::patches::texture::{
     alpha_texture, base_texture, spec_noise_texture, spec_shift_texture,
 };
-use tress_hair::patches::{HairTextures, Texture, TextureParams};
+use tress_hair::patches::{AoParams, HairTextures, Texture, TextureParams};
 
 fn small() -> TextureParams {
     TextureParams {
@@ -107,6 +107,12 @@ fn alpha_is_opaque_in_the_middle_and_fades_at_the_tips_and_edges() {
     for y in 0..p.height {
         assert!(alpha.get(0, y, 0) < 0.1 && alpha.get(p.width - 1, y, 0) < 0.1);
     }
+    // The default texture's mean coverage, which the AO bake's default patch opacity (0.55)
+    // stands for.
+    let full = alpha_texture(&TextureParams::default()).unwrap();
+    let mean = full.data.iter().sum::<f32>() / full.data.len() as f32;
+    assert!((mean - 0.55).abs() < 0.05, "mean alpha {mean}");
+    assert_eq!(AoParams::default().patch_opacity, 0.55);
     // Strands end at different lengths: the tip rows are partly transparent.
     let row = (0.85 * p.height as f32) as u32;
     let values: Vec<f32> = (0..p.width).map(|x| alpha.get(x, row, 0)).collect();

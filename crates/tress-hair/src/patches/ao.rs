@@ -18,9 +18,9 @@
 //! a generated head with overlapping strips can leave most vertices almost black. So each patch
 //! a ray crosses lets `1 − patch_opacity` of the light through, and a ray's visibility is the
 //! product over the patches it crosses (its transmittance; a ray left with less than 1/1024 counts
-//! as blocked). The default 0.6 is about the mean coverage of the default alpha texture
-//! ([`super::texture`]); on the default generated head it gives the outer layer a mean AO of
-//! about 0.8 and the layers under it 0.3 to 0.4.
+//! as blocked). The default 0.55 is about the mean coverage of the default alpha texture
+//! ([`super::texture`], 0.54); on the default generated head it gives the outer layer a mean AO
+//! of about 0.8 and the layers under it 0.3 to 0.45.
 //!
 //! # Two-sided patches
 //!
@@ -79,7 +79,7 @@ pub struct AoParams {
     /// Which hemispheres count. Default [`AoSides::Max`].
     pub sides: AoSides,
     /// How much of the light a patch stops where a ray crosses it, in `[0, 1]` (1: opaque, as
-    /// the head always is). Default 0.6 (see the module docs).
+    /// the head always is). Default 0.55 (see the module docs).
     pub patch_opacity: f32,
 }
 
@@ -90,7 +90,7 @@ impl Default for AoParams {
             max_distance: 8.0,
             seed: 0,
             sides: AoSides::Max,
-            patch_opacity: 0.6,
+            patch_opacity: 0.55,
         }
     }
 }
