@@ -96,8 +96,7 @@ impl CardParams {
 }
 
 impl PatchMesh {
-    /// Hair cards that follow groups of neighbouring strands of `asset` (see the module docs of
-    /// `cards`). Each non-empty group is one component, in group order.
+    /// Hair cards that follow groups of neighbouring strands of `asset` (see the [module docs](self)). Each non-empty group is one component, in group order.
     pub fn from_strands(asset: &HairAsset, params: &CardParams) -> Result<PatchMesh, HairError> {
         params.validate()?;
         let rows = params.segments as usize + 1;

@@ -5,11 +5,12 @@
 //! # Sources
 //!
 //! - [`generate_patches`]: layered strips grown from the scalp of the generated [`Head`]
-//!   (see [`PatchParams`]);
-//! - [`PatchMesh::from_obj`] / [`PatchMesh::read_obj`]: hair cards from a Wavefront OBJ file;
+//!   ([`generate`](mod@generate));
+//! - [`PatchMesh::from_obj`] / [`PatchMesh::read_obj`]: hair cards from a Wavefront OBJ file
+//!   ([`obj`]);
 //! - [`PatchMesh::from_strands`]: ribbons that follow groups of neighbouring strands of a
-//!   [`HairAsset`](crate::HairAsset) (see [`CardParams`]); [`PatchMesh::to_obj`] writes any mesh
-//!   back out.
+//!   [`HairAsset`](crate::HairAsset) ([`cards`]); [`PatchMesh::to_obj`] writes any mesh back
+//!   out, e.g. for `tress cards`.
 //!
 //! # Implementation
 //!
@@ -45,9 +46,9 @@
 
 pub mod ao;
 mod bvh;
-mod cards;
-mod generate;
-mod obj;
+pub mod cards;
+pub mod generate;
+pub mod obj;
 pub mod sort;
 pub mod texture;
 

@@ -39,7 +39,7 @@ const FORMAT: &str = "OBJ";
 const HEADER: &str = "# tress patch mesh";
 
 impl PatchMesh {
-    /// A patch mesh from the bytes of an OBJ file (see the module docs of `obj`). Material
+    /// A patch mesh from the bytes of an OBJ file (see the [module docs](self)). Material
     /// libraries are ignored.
     ///
     /// Errors: not an OBJ file `tobj` can parse, face indices out of range, faces without
@@ -139,7 +139,7 @@ impl PatchMesh {
             .map_err(|e| e.in_file(path))
     }
 
-    /// The mesh as OBJ text (see the module docs of `obj`).
+    /// The mesh as OBJ text (see the [module docs](self)).
     pub fn to_obj(&self) -> String {
         // Number vertices in order of first use.
         let mut new_of = vec![u32::MAX; self.vertex_count()];
