@@ -19,7 +19,8 @@ use crate::head::{HeadGeometry, HeadPass};
 use crate::stats::{FrameStats, ReadbackRing, SlotInfo, StatsReadback};
 use crate::strands::ppll_build::PpllBuildInputs;
 use crate::strands::{
-    PpllBuild, PpllPool, PpllResolve, ShadowMap, StrandGeometry, StrandSettings, ppll,
+    PpllBuild, PpllPool, PpllResolve, ShadowMap, StrandGeometry, StrandSettings, ThicknessFade,
+    ppll,
 };
 use crate::{Camera, DirectionalLight, GpuContext, MAX_LIGHTS, Material, RenderError};
 
@@ -351,8 +352,12 @@ impl Renderer {
         params.node_capacity = pool.capacity;
         params.target_width = size[0];
         params.light_count = lights.count;
-        params.thickness_fade =
-            u32::from(self.settings.thickness_fade && hair.is_some_and(|h| h.has_thickness()));
+        params.thickness_fade = match (self.settings.thickness_fade, hair) {
+            (ThicknessFade::Tip, Some(h)) if h.max_thickness() > 0.0 => 1,
+            (ThicknessFade::Projected, Some(h)) if h.has_thickness() => 2,
+            _ => 0,
+        };
+        params.thickness_ref = hair.map_or(1.0, |h| h.max_thickness().max(1e-20));
         params.vertex_color = u32::from(hair.is_some_and(|h| h.has_color()));
         params.hair_center = inputs.hair.map_or([0.0; 3], |h| h.bounds.0.to_array());
         let q = &ctx.queue;

@@ -54,7 +54,7 @@ pub use head::{HeadGeometry, HeadMesh};
 pub use inputs::{Camera, DirectionalLight, Material};
 pub use scene_setup::PreparedScene;
 pub use stats::{FrameStats, GpuReport, StatsReadback};
-pub use strands::{PpllStats, Shading, StrandGeometry, StrandSettings};
+pub use strands::{PpllStats, Shading, StrandGeometry, StrandSettings, ThicknessFade};
 
 /// The wgpu version this crate is built on, for callers that need its types.
 pub use wgpu;

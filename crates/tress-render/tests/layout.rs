@@ -89,7 +89,8 @@ fn gpu_types_match_wgsl() {
             target_width,
             shadows,
             hair_center,
-            light_count
+            light_count,
+            thickness_ref
         ]
     );
     // HairLighting's trailing padding is implicit in WGSL (struct alignment), explicit in Rust.

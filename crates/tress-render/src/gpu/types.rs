@@ -86,7 +86,7 @@ pub struct StrandParams {
     pub shading: u32,
     /// 1: multiply alpha by the §3.2 coverage.
     pub coverage: u32,
-    /// 1: scale alpha by the projected thickness (`tip_fade`).
+    /// Thickness fade: 0 off, 1 tip (relative to `thickness_ref`), 2 projected (`tip_fade`).
     pub thickness_fade: u32,
     /// 1: vertex colors replace the material's base color.
     pub vertex_color: u32,
@@ -112,6 +112,10 @@ pub struct StrandParams {
     pub hair_center: [f32; 3],
     /// Number of lights.
     pub light_count: u32,
+    /// Thickness that fades nothing in the tip mode (the asset's thickest vertex).
+    pub thickness_ref: f32,
+    /// Padding to the WGSL struct's 16-byte alignment.
+    pub _pad: [f32; 3],
 }
 
 /// `struct HairLighting` in `shaders/common/shading.wgsl` (twin of `tress_shading::HairLighting`).

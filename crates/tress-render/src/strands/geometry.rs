@@ -16,6 +16,7 @@ pub struct StrandGeometry {
     segments: u32,
     strands: u32,
     has_thickness: bool,
+    max_thickness: f32,
     has_color: bool,
     /// Bounding sphere (centre, radius) of the vertices.
     pub bounds: (Vec3, f32),
@@ -125,6 +126,9 @@ impl StrandGeometry {
             segments: segment_count,
             strands: asset.strand_count() as u32,
             has_thickness: asset.thickness().is_some(),
+            max_thickness: asset
+                .thickness()
+                .map_or(0.0, |t| t.iter().fold(0.0, |m: f32, &x| m.max(x))),
             has_color: asset.color().is_some(),
             bounds: (b.center(), b.size().length() * 0.5),
         })
@@ -138,6 +142,11 @@ impl StrandGeometry {
     /// Number of strands.
     pub fn strand_count(&self) -> u32 {
         self.strands
+    }
+
+    /// The thickest vertex of the asset (0 without thickness); the tip fade's reference.
+    pub fn max_thickness(&self) -> f32 {
+        self.max_thickness
     }
 
     /// Whether the asset has per-vertex thickness (enables the tip fade).

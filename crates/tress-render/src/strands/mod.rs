@@ -22,9 +22,11 @@
 //! - **Coverage (§3.2, listing `strand_coverage`).** The fragment's distance to the projected
 //!   centre line, divided by half the width, gives a coverage in `[0, 1]` multiplied into alpha
 //!   (`coverage = false` shows the aliased look of Figure 3, left). Alpha is the strand alpha
-//!   setting times the asset's `1 - transparency`, times the tip fade: when the asset has
-//!   thickness, alpha is scaled by the fraction of the drawn width its projected thickness covers,
-//!   so tapered tips fade out (`thickness_fade`).
+//!   setting times the asset's `1 - transparency`, times the tip fade when the asset has thickness
+//!   (`thickness_fade`): by default (`"tip"`) alpha is scaled by the vertex's thickness relative
+//!   to the asset's thickest vertex, so tapered tips fade out while roots keep the strand alpha;
+//!   `"projected"` scales it by the fraction of the drawn width the projected thickness covers,
+//!   a physical sub-pixel coverage that makes real (70 µm) hair very faint at usual distances.
 //! - **Sorting and blending (§3.2).** The build pass shades each fragment and inserts
 //!   `{color, alpha, depth, next}` into its pixel's list with an atomic exchange on a per-pixel head
 //!   buffer and an atomic node counter; depth writes are off. Fragments behind the head are
@@ -105,6 +107,45 @@ impl FromStr for Shading {
     }
 }
 
+/// How strand alpha follows the asset's per-vertex thickness.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ThicknessFade {
+    /// Thickness does not change alpha, `"off"`.
+    Off,
+    /// Alpha times thickness over the asset's thickest vertex: tapered tips fade out, roots keep
+    /// the strand alpha, `"tip"`.
+    #[default]
+    Tip,
+    /// Alpha times the fraction of the drawn width the projected thickness covers (physical
+    /// sub-pixel coverage; real hair is far thinner than a pixel, so it is faint), `"projected"`.
+    Projected,
+}
+
+impl ThicknessFade {
+    /// The setting's spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            ThicknessFade::Off => "off",
+            ThicknessFade::Tip => "tip",
+            ThicknessFade::Projected => "projected",
+        }
+    }
+}
+
+impl FromStr for ThicknessFade {
+    type Err = RenderError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "off" => Ok(ThicknessFade::Off),
+            "tip" => Ok(ThicknessFade::Tip),
+            "projected" => Ok(ThicknessFade::Projected),
+            _ => Err(RenderError::Invalid(format!(
+                "unknown thickness_fade `{s}` (expected off, tip or projected)"
+            ))),
+        }
+    }
+}
+
 /// Largest PCF radius (a 17x17 kernel), as in `tress_shading::MAX_PCF_RADIUS`.
 pub const MAX_PCF_RADIUS: u32 = tress_shading::MAX_PCF_RADIUS as u32;
 
@@ -119,8 +160,8 @@ pub struct StrandSettings {
     pub shading: Shading,
     /// Multiply alpha by the §3.2 line coverage.
     pub coverage: bool,
-    /// Scale alpha by projected thickness / width when the asset has thickness (tip fade).
-    pub thickness_fade: bool,
+    /// How alpha follows the asset's thickness (when it has thickness).
+    pub thickness_fade: ThicknessFade,
     /// Fragments per pixel blended in sorted order (the k-buffer size), `1..=MAX_K`.
     pub k: u32,
     /// Initial PPLL node pool, in nodes per target pixel.
@@ -151,7 +192,7 @@ impl Default for StrandSettings {
             alpha: 0.6,
             shading: Shading::KajiyaKay,
             coverage: true,
-            thickness_fade: true,
+            thickness_fade: ThicknessFade::Tip,
             k: 16,
             ppll_nodes_per_pixel: 8.0,
             ppll_max_bytes: 128 << 20,

@@ -25,7 +25,13 @@ struct PpllCounters {
 
 @vertex
 fn vs_main(@builtin(vertex_index) vertex_index: u32) -> StrandVarying {
-    return strand_vertex(camera, vertex_index, params.width_px, params.thickness_fade != 0u);
+    return strand_vertex(
+        camera,
+        vertex_index,
+        params.width_px,
+        params.thickness_fade,
+        params.thickness_ref,
+    );
 }
 
 // A well-mixed 32-bit hash (PCG-style output permutation).

@@ -9,7 +9,7 @@
 
 @vertex
 fn vs_strand(@builtin(vertex_index) vertex_index: u32) -> @builtin(position) vec4<f32> {
-    return strand_vertex(camera, vertex_index, params.shadow_width_px, false).position;
+    return strand_vertex(camera, vertex_index, params.shadow_width_px, THICKNESS_FADE_OFF, 1.0).position;
 }
 
 @vertex

@@ -20,7 +20,13 @@ struct StrandParams {
     shadows: u32,
     hair_center: vec3<f32>,
     light_count: u32,
+    // Thickness that fades nothing in the tip mode (the asset's thickest vertex).
+    thickness_ref: f32,
 }
+
+const THICKNESS_FADE_OFF: u32 = 0u;
+const THICKNESS_FADE_TIP: u32 = 1u;
+const THICKNESS_FADE_PROJECTED: u32 = 2u;
 
 const SHADING_KAJIYA_KAY: u32 = 0u;
 const SHADING_SCHEUERMANN: u32 = 1u;

@@ -78,9 +78,17 @@ fn expand_segment(
 }
 
 // The varying of quad vertex `vertex_index` (6 per segment) for a camera and a screen width.
-// With `thickness_fade`, alpha is scaled by the fraction of the drawn width the strand's projected
-// thickness covers (shading.wgsl `tip_fade`): tapered tips fade out.
-fn strand_vertex(cam: Camera, vertex_index: u32, width_px: f32, thickness_fade: bool) -> StrandVarying {
+// Thickness fade (`params.wgsl` THICKNESS_FADE_*): in the tip mode alpha is scaled by the vertex's
+// thickness relative to `thickness_ref` (the asset's thickest vertex), so tapered tips fade out; in
+// the projected mode by the fraction of the drawn width the projected thickness covers
+// (shading.wgsl `tip_fade`), a physical sub-pixel coverage.
+fn strand_vertex(
+    cam: Camera,
+    vertex_index: u32,
+    width_px: f32,
+    thickness_fade: u32,
+    thickness_ref: f32,
+) -> StrandVarying {
     let seg = strand_segments[vertex_index / 6u];
     let corner = quad_corner(vertex_index % 6u);
     let v0 = strand_vertices[seg.x];
@@ -100,7 +108,9 @@ fn strand_vertex(cam: Camera, vertex_index: u32, width_px: f32, thickness_fade: 
     out.world_line = v.position;
     out.tangent = select(vec3<f32>(0.0, 1.0, 0.0), d / len, len > 1e-20);
     var alpha = v.alpha;
-    if thickness_fade {
+    if thickness_fade == THICKNESS_FADE_TIP {
+        alpha = alpha * tip_fade(v.thickness, thickness_ref);
+    } else if thickness_fade == THICKNESS_FADE_PROJECTED {
         let thickness_px = v.thickness * cam.pixels_per_unit / max(w, 1e-6);
         alpha = alpha * tip_fade(thickness_px, width_px);
     }
