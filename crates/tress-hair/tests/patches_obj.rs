@@ -263,3 +263,30 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn tri_meshes_read_with_or_without_normals_and_reject_hostile_indices() {
+    use tress_hair::generate::TriMesh;
+    let m = TriMesh::from_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n").unwrap();
+    assert_eq!(m.indices.len(), 6, "the quad is two triangles");
+    assert!(
+        m.normals
+            .iter()
+            .all(|n| (*n - glam::Vec3::Z).length() < 1e-6)
+    );
+    let with_normals = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 -1\nf 1//1 2//1 3//1\n";
+    let m = TriMesh::from_obj(with_normals).unwrap();
+    assert!(
+        m.normals
+            .iter()
+            .all(|n| (*n - glam::Vec3::NEG_Z).length() < 1e-6)
+    );
+    let hostile: [&[u8]; 3] = [
+        b"v 0 0 0\nf 1 2 3\n",
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf -4 -1 -2\n",
+        b"v 0 0 0\n",
+    ];
+    for bad in hostile {
+        assert!(TriMesh::from_obj(bad).is_err());
+    }
+}

@@ -12,6 +12,7 @@ use serde::Deserialize;
 use tress_hair::HairAsset;
 use tress_scene::{HeadSource, Scene};
 
+use crate::strands::ThicknessFade;
 use crate::{Camera, DirectionalLight, HeadMesh, Material, RenderError, Shading, StrandSettings};
 
 /// A scene resolved into renderer inputs (CPU side; upload with the renderer).
@@ -133,7 +134,7 @@ struct StrandTable {
     alpha: Option<f32>,
     shading: Option<String>,
     coverage: Option<bool>,
-    thickness_fade: Option<bool>,
+    thickness_fade: Option<String>,
     k: Option<u32>,
     ppll_nodes_per_pixel: Option<f32>,
     ppll_max_mib: Option<f64>,
@@ -157,7 +158,6 @@ pub fn strand_settings(scene: &Scene) -> Result<StrandSettings, RenderError> {
         width_px,
         alpha,
         coverage,
-        thickness_fade,
         k,
         ppll_nodes_per_pixel,
         shadows,
@@ -168,6 +168,9 @@ pub fn strand_settings(scene: &Scene) -> Result<StrandSettings, RenderError> {
         shadow_bias,
         shadow_width_px
     );
+    if let Some(name) = &t.thickness_fade {
+        s.thickness_fade = name.parse::<ThicknessFade>()?;
+    }
     if let Some(name) = &t.shading {
         s.shading = name.parse::<Shading>()?;
     }
@@ -183,65 +186,20 @@ pub fn strand_settings(scene: &Scene) -> Result<StrandSettings, RenderError> {
     Ok(s)
 }
 
-/// Read a triangle mesh (positions, normals; faces triangulated) from an OBJ file. Missing
-/// normals are computed from the faces. Errors name the file.
+/// Read a head mesh from an OBJ file ([`tress_hair::generate::TriMesh::read_obj`]: faces
+/// triangulated, normals from the file or the faces, hostile indices rejected). Errors name the
+/// file.
 pub fn read_obj_mesh(path: &Path) -> Result<HeadMesh, RenderError> {
-    let fail = |why: String| RenderError::Invalid(format!("{}: {why}", path.display()));
-    let bytes = std::fs::read(path).map_err(|e| fail(e.to_string()))?;
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: true,
-        ..Default::default()
+    let m = tress_hair::generate::TriMesh::read_obj(path)
+        .map_err(|e| RenderError::Invalid(e.to_string()))?;
+    let mesh = HeadMesh {
+        positions: m.positions,
+        normals: m.normals,
+        indices: m.indices,
     };
-    let (models, _) = tobj::load_obj_buf(&mut bytes.as_slice(), &options, |_| {
-        Err(tobj::LoadError::OpenFileFailed)
-    })
-    .map_err(|e| fail(format!("not a valid OBJ file ({e})")))?;
-    let mut mesh = HeadMesh::default();
-    for m in &models {
-        let m = &m.mesh;
-        let base = mesh.positions.len() as u32;
-        let positions: Vec<Vec3> = m
-            .positions
-            .chunks_exact(3)
-            .map(|p| Vec3::new(p[0], p[1], p[2]))
-            .collect();
-        let normals: Vec<Vec3> = if m.normals.len() == m.positions.len() {
-            m.normals
-                .chunks_exact(3)
-                .map(|n| Vec3::new(n[0], n[1], n[2]))
-                .collect()
-        } else {
-            face_normals(&positions, &m.indices)
-        };
-        if m.indices.iter().any(|&i| i as usize >= positions.len()) {
-            return Err(fail("a face refers to a vertex that does not exist".into()));
-        }
-        mesh.positions.extend(positions);
-        mesh.normals.extend(normals);
-        mesh.indices.extend(m.indices.iter().map(|i| i + base));
-    }
-    if mesh.indices.is_empty() {
-        return Err(fail("the OBJ file has no faces".into()));
-    }
-    mesh.validate().map_err(|e| fail(e.to_string()))?;
+    mesh.validate()
+        .map_err(|e| RenderError::Invalid(format!("{}: {e}", path.display())))?;
     Ok(mesh)
-}
-
-/// Area-weighted vertex normals of a triangle list (indices must be in range).
-fn face_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
-    let mut n = vec![Vec3::ZERO; positions.len()];
-    for t in indices.chunks_exact(3) {
-        let [a, b, c] = [t[0], t[1], t[2]].map(|i| i as usize);
-        if a.max(b).max(c) >= positions.len() {
-            continue;
-        }
-        let face = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
-        for i in [a, b, c] {
-            n[i] += face;
-        }
-    }
-    n.iter().map(|v| v.normalize_or_zero()).collect()
 }
 
 #[cfg(test)]
@@ -317,7 +275,7 @@ mod tests {
         assert_eq!(m.indices, vec![0, 1, 2]);
         assert!(m.normals.iter().all(|n| (*n - Vec3::Z).length() < 1e-6));
         let bad = dir.join("bad.obj");
-        std::fs::write(&bad, "v 0 0 0\nf 1 2 3\n").unwrap();
+        std::fs::write(&bad, "v 0 0 0\nf 1 -2 3\n").unwrap();
         let err = read_obj_mesh(&bad).unwrap_err().to_string();
         assert!(err.contains("bad.obj"), "{err}");
         assert!(read_obj_mesh(&dir.join("missing.obj")).is_err());

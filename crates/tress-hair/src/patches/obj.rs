@@ -33,6 +33,7 @@ use glam::{Vec2, Vec3};
 
 use super::PatchMesh;
 use crate::HairError;
+use crate::generate::TriMesh;
 
 const FORMAT: &str = "OBJ";
 /// First line of the files [`PatchMesh::to_obj`] writes.
@@ -45,15 +46,7 @@ impl PatchMesh {
     /// Errors: not an OBJ file `tobj` can parse, face indices out of range, faces without
     /// texture coordinates, no faces, or values that are not finite.
     pub fn from_obj(bytes: &[u8]) -> Result<Self, HairError> {
-        let text = std::str::from_utf8(bytes)
-            .map_err(|e| HairError::format(FORMAT, format!("not UTF-8 text: {e}")))?;
-        check_face_indices(text)?;
-        let options = load_options();
-        let mut reader = BufReader::new(bytes);
-        let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| {
-            Err(tobj::LoadError::OpenFileFailed)
-        })
-        .map_err(|e| HairError::format(FORMAT, obj_error(e)))?;
+        let models = load_models(bytes)?;
         let ours = bytes.starts_with(HEADER.as_bytes());
 
         let mut positions = Vec::new();
@@ -183,6 +176,83 @@ impl PatchMesh {
         let path = path.as_ref();
         std::fs::write(path, self.to_obj()).map_err(|e| HairError::from(e).in_file(path))
     }
+}
+
+impl TriMesh {
+    /// A triangle mesh (e.g. a head) from the bytes of an OBJ file: every object merged,
+    /// polygons fan-triangulated, the file's normals when every corner has one, otherwise
+    /// area-weighted face normals. Texture coordinates are not needed. Face indices are checked
+    /// before `tobj` parses the file, so a hostile file gives an error, never a panic.
+    pub fn from_obj(bytes: &[u8]) -> Result<TriMesh, HairError> {
+        let models = load_models(bytes)?;
+        let mut mesh = TriMesh {
+            positions: Vec::new(),
+            normals: Vec::new(),
+            indices: Vec::new(),
+        };
+        let mut file_normals = Vec::new();
+        let mut all_normals = true;
+        for model in &models {
+            let m = &model.mesh;
+            let base = u32::try_from(mesh.positions.len())
+                .map_err(|_| HairError::format(FORMAT, "more than 2^32 vertices"))?;
+            mesh.positions
+                .extend(m.positions.chunks_exact(3).map(Vec3::from_slice));
+            if m.normals.len() == m.positions.len() {
+                file_normals.extend(m.normals.chunks_exact(3).map(Vec3::from_slice));
+            } else {
+                all_normals = false;
+            }
+            mesh.indices.extend(m.indices.iter().map(|&i| i + base));
+        }
+        if mesh.indices.is_empty() {
+            return Err(HairError::format(FORMAT, "the file has no faces"));
+        }
+        if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
+            return Err(HairError::format(
+                FORMAT,
+                format!("vertex {i} has a non-finite position"),
+            ));
+        }
+        let faces = face_normals(&mesh.positions, &mesh.indices);
+        mesh.normals = if all_normals {
+            file_normals
+                .iter()
+                .zip(&faces)
+                .map(|(n, f)| {
+                    if n.is_finite() {
+                        n.try_normalize().unwrap_or(*f)
+                    } else {
+                        *f
+                    }
+                })
+                .collect()
+        } else {
+            faces
+        };
+        Ok(mesh)
+    }
+
+    /// [`TriMesh::from_obj`] of a file; errors name the file.
+    pub fn read_obj(path: impl AsRef<Path>) -> Result<TriMesh, HairError> {
+        let path = path.as_ref();
+        let bytes = std::fs::read(path).map_err(|e| HairError::from(e).in_file(path))?;
+        TriMesh::from_obj(&bytes).map_err(|e| e.in_file(path))
+    }
+}
+
+/// Parse OBJ bytes with `tobj` after checking the text and every face index.
+fn load_models(bytes: &[u8]) -> Result<Vec<tobj::Model>, HairError> {
+    let text = std::str::from_utf8(bytes)
+        .map_err(|e| HairError::format(FORMAT, format!("not UTF-8 text: {e}")))?;
+    check_face_indices(text)?;
+    let options = load_options();
+    let mut reader = BufReader::new(bytes);
+    let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| {
+        Err(tobj::LoadError::OpenFileFailed)
+    })
+    .map_err(|e| HairError::format(FORMAT, obj_error(e)))?;
+    Ok(models)
 }
 
 /// Check every face (and line, which `tobj` reads as faces) index against the elements defined
