@@ -19,7 +19,9 @@ impl Aabb {
     /// The box around a set of points; `None` for an empty set.
     pub fn from_points(points: &[Vec3]) -> Option<Self> {
         let first = *points.first()?;
-        let (min, max) = points.iter().fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+        let (min, max) = points
+            .iter()
+            .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)));
         Some(Aabb { min, max })
     }
 
@@ -35,7 +37,10 @@ impl Aabb {
 
     /// The smallest box holding both.
     pub fn union(&self, other: &Aabb) -> Aabb {
-        Aabb { min: self.min.min(other.min), max: self.max.max(other.max) }
+        Aabb {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max),
+        }
     }
 }
 
@@ -106,7 +111,9 @@ impl HairAsset {
             )));
         }
         if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
-            return Err(HairError::Invalid(format!("vertex {i} has a non-finite position")));
+            return Err(HairError::Invalid(format!(
+                "vertex {i} has a non-finite position"
+            )));
         }
         Ok(HairAsset {
             positions,
@@ -122,7 +129,9 @@ impl HairAsset {
     pub fn with_thickness(mut self, thickness: Vec<f32>) -> Result<Self, HairError> {
         check_per_vertex("thickness", thickness.len(), self.vertex_count())?;
         if let Some(i) = thickness.iter().position(|t| !t.is_finite() || *t < 0.0) {
-            return Err(HairError::Invalid(format!("thickness of vertex {i} is negative or not finite")));
+            return Err(HairError::Invalid(format!(
+                "thickness of vertex {i} is negative or not finite"
+            )));
         }
         self.thickness = Some(thickness);
         Ok(self)
@@ -132,7 +141,9 @@ impl HairAsset {
     pub fn with_transparency(mut self, transparency: Vec<f32>) -> Result<Self, HairError> {
         check_per_vertex("transparency", transparency.len(), self.vertex_count())?;
         if let Some(i) = transparency.iter().position(|t| !t.is_finite()) {
-            return Err(HairError::Invalid(format!("transparency of vertex {i} is not finite")));
+            return Err(HairError::Invalid(format!(
+                "transparency of vertex {i} is not finite"
+            )));
         }
         self.transparency = Some(transparency);
         Ok(self)
@@ -142,7 +153,9 @@ impl HairAsset {
     pub fn with_color(mut self, color: Vec<Vec3>) -> Result<Self, HairError> {
         check_per_vertex("color", color.len(), self.vertex_count())?;
         if let Some(i) = color.iter().position(|c| !c.is_finite()) {
-            return Err(HairError::Invalid(format!("color of vertex {i} is not finite")));
+            return Err(HairError::Invalid(format!(
+                "color of vertex {i} is not finite"
+            )));
         }
         self.color = Some(color);
         Ok(self)
@@ -158,7 +171,9 @@ impl HairAsset {
             )));
         }
         if let Some(i) = uv.iter().position(|c| !c.is_finite()) {
-            return Err(HairError::Invalid(format!("UV of strand {i} is not finite")));
+            return Err(HairError::Invalid(format!(
+                "UV of strand {i} is not finite"
+            )));
         }
         self.strand_uv = Some(uv);
         Ok(self)
@@ -228,7 +243,8 @@ impl HairAsset {
 
     /// Smallest and largest vertex count over the strands.
     pub fn vertices_per_strand_range(&self) -> (u32, u32) {
-        self.vertex_counts().fold((u32::MAX, 0), |(lo, hi), c| (lo.min(c), hi.max(c)))
+        self.vertex_counts()
+            .fold((u32::MAX, 0), |(lo, hi), c| (lo.min(c), hi.max(c)))
     }
 
     /// Per-vertex thickness, if present.
@@ -254,7 +270,10 @@ impl HairAsset {
     /// Bounding box of all vertices.
     pub fn bounds(&self) -> Aabb {
         // The invariants guarantee at least one vertex.
-        Aabb::from_points(&self.positions).unwrap_or(Aabb { min: Vec3::ZERO, max: Vec3::ZERO })
+        Aabb::from_points(&self.positions).unwrap_or(Aabb {
+            min: Vec3::ZERO,
+            max: Vec3::ZERO,
+        })
     }
 
     /// Per-vertex unit tangents pointing from root to tip: the direction of the segment leaving
@@ -296,8 +315,15 @@ impl HairAsset {
         let total: f32 = lengths.iter().sum();
         let (min, max) = lengths
             .iter()
-            .fold((f32::INFINITY, 0.0f32), |(lo, hi), &l| (lo.min(l), hi.max(l)));
-        LengthStats { min, max, mean: total / lengths.len() as f32, total }
+            .fold((f32::INFINITY, 0.0f32), |(lo, hi), &l| {
+                (lo.min(l), hi.max(l))
+            });
+        LengthStats {
+            min,
+            max,
+            mean: total / lengths.len() as f32,
+            total,
+        }
     }
 }
 
@@ -305,7 +331,9 @@ fn check_per_vertex(name: &str, len: usize, vertices: usize) -> Result<(), HairE
     if len == vertices {
         Ok(())
     } else {
-        Err(HairError::Invalid(format!("{name} array has {len} entries for {vertices} vertices")))
+        Err(HairError::Invalid(format!(
+            "{name} array has {len} entries for {vertices} vertices"
+        )))
     }
 }
 

@@ -36,14 +36,20 @@ pub enum HairError {
 impl HairError {
     /// A format error with a reason.
     pub fn format(format: &'static str, reason: impl Into<String>) -> Self {
-        HairError::Format { format, reason: reason.into() }
+        HairError::Format {
+            format,
+            reason: reason.into(),
+        }
     }
 
     /// Attach the file name to an error (once: an error that already names a file is kept).
     pub fn in_file(self, path: impl Into<PathBuf>) -> Self {
         match self {
             e @ HairError::File { .. } => e,
-            e => HairError::File { path: path.into(), source: Box::new(e) },
+            e => HairError::File {
+                path: path.into(),
+                source: Box::new(e),
+            },
         }
     }
 }

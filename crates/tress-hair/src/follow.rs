@@ -24,7 +24,12 @@ pub struct FollowParams {
 impl Default for FollowParams {
     /// TressFX's sample defaults: a 0.3-unit root radius and a tip separation of 1.
     fn default() -> Self {
-        FollowParams { count: 0, root_radius: 0.3, tip_separation: 1.0, seed: 0 }
+        FollowParams {
+            count: 0,
+            root_radius: 0.3,
+            tip_separation: 1.0,
+            seed: 0,
+        }
     }
 }
 
@@ -67,9 +72,11 @@ impl HairAsset {
                 let d = rng.in_disk() * params.root_radius;
                 let offset: Vec3 = u * d.x + v * d.y;
                 let denom = (n.max(2) - 1) as f32;
-                positions.extend(guide.iter().enumerate().map(|(i, &p)| {
-                    p + offset * (1.0 + params.tip_separation * i as f32 / denom)
-                }));
+                positions.extend(
+                    guide.iter().enumerate().map(|(i, &p)| {
+                        p + offset * (1.0 + params.tip_separation * i as f32 / denom)
+                    }),
+                );
                 counts.push(n as u32);
             }
         }
@@ -85,7 +92,11 @@ impl HairAsset {
             out = out.with_color(repeat_strands(self, c, per_guide))?;
         }
         if let Some(uv) = self.strand_uv() {
-            out = out.with_strand_uv(uv.iter().flat_map(|&x| std::iter::repeat_n(x, per_guide)).collect())?;
+            out = out.with_strand_uv(
+                uv.iter()
+                    .flat_map(|&x| std::iter::repeat_n(x, per_guide))
+                    .collect(),
+            )?;
         }
         Ok(out)
     }
@@ -119,7 +130,12 @@ mod tests {
 
     #[test]
     fn followers_fan_out_around_their_guide() {
-        let params = FollowParams { count: 4, root_radius: 0.5, tip_separation: 2.0, seed: 9 };
+        let params = FollowParams {
+            count: 4,
+            root_radius: 0.5,
+            tip_separation: 2.0,
+            seed: 9,
+        };
         let h = guides().with_follow_hairs(&params).unwrap();
         assert_eq!(h.strand_count(), 3 * 5);
         for g in 0..3 {
@@ -139,17 +155,34 @@ mod tests {
 
     #[test]
     fn deterministic_for_a_seed() {
-        let p = FollowParams { count: 3, seed: 1, ..Default::default() };
-        assert_eq!(guides().with_follow_hairs(&p).unwrap(), guides().with_follow_hairs(&p).unwrap());
+        let p = FollowParams {
+            count: 3,
+            seed: 1,
+            ..Default::default()
+        };
+        assert_eq!(
+            guides().with_follow_hairs(&p).unwrap(),
+            guides().with_follow_hairs(&p).unwrap()
+        );
         let q = FollowParams { seed: 2, ..p };
-        assert_ne!(guides().with_follow_hairs(&p).unwrap(), guides().with_follow_hairs(&q).unwrap());
+        assert_ne!(
+            guides().with_follow_hairs(&p).unwrap(),
+            guides().with_follow_hairs(&q).unwrap()
+        );
     }
 
     #[test]
     fn rejects_bad_parameters() {
-        let p = FollowParams { count: 1, root_radius: f32::NAN, ..Default::default() };
+        let p = FollowParams {
+            count: 1,
+            root_radius: f32::NAN,
+            ..Default::default()
+        };
         assert!(guides().with_follow_hairs(&p).is_err());
-        let p = FollowParams { count: u32::MAX, ..Default::default() };
+        let p = FollowParams {
+            count: u32::MAX,
+            ..Default::default()
+        };
         assert!(guides().with_follow_hairs(&p).is_err());
     }
 }

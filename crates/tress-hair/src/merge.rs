@@ -25,17 +25,32 @@ impl HairAsset {
         let mut out = HairAsset::from_counts(positions, &counts)?;
         if assets.iter().any(|a| a.thickness().is_some()) {
             let fill = mean(assets.iter().filter_map(|a| a.thickness()), 0.0);
-            out = out.with_thickness(gather(assets, |a| a.thickness(), fill, HairAsset::vertex_count))?;
+            out = out.with_thickness(gather(
+                assets,
+                |a| a.thickness(),
+                fill,
+                HairAsset::vertex_count,
+            ))?;
         }
         if assets.iter().any(|a| a.transparency().is_some()) {
-            out = out.with_transparency(gather(assets, |a| a.transparency(), 0.0, HairAsset::vertex_count))?;
+            out = out.with_transparency(gather(
+                assets,
+                |a| a.transparency(),
+                0.0,
+                HairAsset::vertex_count,
+            ))?;
         }
         if assets.iter().any(|a| a.color().is_some()) {
             let fill = mean(assets.iter().filter_map(|a| a.color()), Vec3::ZERO);
             out = out.with_color(gather(assets, |a| a.color(), fill, HairAsset::vertex_count))?;
         }
         if assets.iter().any(|a| a.strand_uv().is_some()) {
-            out = out.with_strand_uv(gather(assets, |a| a.strand_uv(), Vec2::ZERO, HairAsset::strand_count))?;
+            out = out.with_strand_uv(gather(
+                assets,
+                |a| a.strand_uv(),
+                Vec2::ZERO,
+                HairAsset::strand_count,
+            ))?;
         }
         Ok(out)
     }
@@ -61,7 +76,9 @@ fn mean<'a, T>(arrays: impl Iterator<Item = &'a [T]>, zero: T) -> T
 where
     T: Copy + std::ops::Add<Output = T> + std::ops::Div<f32, Output = T> + 'a,
 {
-    let (sum, n) = arrays.flatten().fold((zero, 0usize), |(s, n), &x| (s + x, n + 1));
+    let (sum, n) = arrays
+        .flatten()
+        .fold((zero, 0usize), |(s, n), &x| (s + x, n + 1));
     if n == 0 { zero } else { sum / n as f32 }
 }
 

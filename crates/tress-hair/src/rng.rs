@@ -12,7 +12,9 @@ pub struct Rng {
 impl Rng {
     /// A generator seeded with `seed`.
     pub fn new(seed: u64) -> Self {
-        Rng { state: seed ^ 0x853c_49e6_748f_ea9b }
+        Rng {
+            state: seed ^ 0x853c_49e6_748f_ea9b,
+        }
     }
 
     /// A generator for sub-stream `stream` of `seed` (e.g. one per strand, so that results do not
@@ -76,8 +78,12 @@ mod tests {
 
     #[test]
     fn deterministic_and_in_range() {
-        let a: Vec<u64> = (0..4).scan(Rng::new(7), |r, _| Some(r.next_u64())).collect();
-        let b: Vec<u64> = (0..4).scan(Rng::new(7), |r, _| Some(r.next_u64())).collect();
+        let a: Vec<u64> = (0..4)
+            .scan(Rng::new(7), |r, _| Some(r.next_u64()))
+            .collect();
+        let b: Vec<u64> = (0..4)
+            .scan(Rng::new(7), |r, _| Some(r.next_u64()))
+            .collect();
         assert_eq!(a, b);
         let mut r = Rng::new(1);
         let mut sum = 0.0;
@@ -89,7 +95,11 @@ mod tests {
             assert!(r.in_disk().length() <= 1.0);
             assert!((r.on_sphere().length() - 1.0).abs() < 1e-4);
         }
-        assert!((sum / 10_000.0 - 0.5).abs() < 0.02, "mean {}", sum / 10_000.0);
+        assert!(
+            (sum / 10_000.0 - 0.5).abs() < 0.02,
+            "mean {}",
+            sum / 10_000.0
+        );
         assert_ne!(Rng::stream(1, 0).next_u64(), Rng::stream(1, 1).next_u64());
     }
 }
