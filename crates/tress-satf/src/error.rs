@@ -100,6 +100,11 @@ impl SatfError {
     }
 }
 
+/// Whether `x` lies in `(0, max]` (false for NaN).
+pub(crate) fn in_open_closed(x: f32, max: f32) -> bool {
+    x > 0.0 && x <= max
+}
+
 /// Shorthand for a [`SatfError::Parameter`] error.
 pub(crate) fn param(msg: impl Into<String>) -> SatfError {
     SatfError::Parameter(msg.into())
