@@ -84,6 +84,8 @@ pub struct GeneralizedCylinder {
     arc: Vec<f32>,
     /// Rotation-minimizing normal at the same samples.
     normals: Vec<Vec3>,
+    /// `T(τ)` at the same samples.
+    points: Vec<Vec3>,
     length: f32,
 }
 
@@ -152,6 +154,7 @@ impl GeneralizedCylinder {
             twist_mode,
             arc,
             normals,
+            points: positions,
             length: acc,
         })
     }
@@ -267,7 +270,7 @@ impl GeneralizedCylinder {
     /// (a relative arc length) and refined on the neighbouring chords.
     pub fn closest_t(&self, p: Vec3, hint: f32) -> f32 {
         let n = FRAME_TABLE;
-        let pos = |i: usize| self.trajectory.eval(i as f32 / (n - 1) as f32);
+        let pos = |i: usize| self.points[i];
         let d2 = |i: usize| pos(i).distance_squared(p);
         let mut i = ((self.tau_of(hint) * (n - 1) as f32).round() as usize).min(n - 1);
         let mut best = d2(i);
