@@ -5,11 +5,17 @@
 //!   database's file size is printed once;
 //! - `bake_per_sample`: a 64-sample bake, to compare settings quickly;
 //! - `cluster_features`: the online index calculation (Table 1, I) for the clusters of the
-//!   default clustered style.
+//!   default clustered style;
+//! - `fit_straight_50k`: fitting clusters to the default `straight` style (50,000 strands of 32
+//!   vertices).
 
 use divan::{Bencher, black_box};
-use tress_hair::generate::Head;
+use std::sync::OnceLock;
+
+use tress_hair::HairAsset;
+use tress_hair::generate::{Head, Style, generate};
 use tress_satf::database::{BakeSettings, bake};
+use tress_satf::fit::{FitSettings, fit_clusters};
 use tress_satf::generate::{ClusterStyle, generate_clusters};
 use tress_satf::shell::{ShellSampling, cluster_features};
 
@@ -53,5 +59,23 @@ fn cluster_features_default_style(bencher: Bencher<'_, '_>) {
             .clusters()
             .map(|(_, c)| cluster_features(c, &sampling, &density).len())
             .sum::<usize>()
+    });
+}
+
+fn straight() -> &'static HairAsset {
+    static ASSET: OnceLock<HairAsset> = OnceLock::new();
+    ASSET.get_or_init(|| {
+        generate(Style::Straight, &Style::Straight.default_params()).expect("valid defaults")
+    })
+}
+
+#[divan::bench(sample_count = 5, sample_size = 1)]
+fn fit_straight_50k(bencher: Bencher<'_, '_>) {
+    let asset = straight();
+    bencher.bench(|| {
+        fit_clusters(black_box(asset), &FitSettings::default())
+            .expect("fits")
+            .macro_clusters
+            .len()
     });
 }
