@@ -1,0 +1,538 @@
+//! A bounding-volume hierarchy over primitive boxes, built with the binned surface area
+//! heuristic (SAH) and traversed with a small fixed stack.
+//!
+//! # Implementation
+//!
+//! - **Build.** Top-down. A node's primitives are binned by centroid into [`BINS`] slots along
+//!   each axis of their centroid box; every boundary between bins is scored with the SAH cost
+//!   `C = area(L)·n(L) + area(R)·n(R)` (relative to the parent's area, traversal and intersection
+//!   cost taken equal), and the cheapest split wins if it beats making a leaf
+//!   (`n · area(parent)`), or always when the node has more than [`MAX_LEAF`] primitives. When
+//!   all centroids coincide, or below depth [`SAH_DEPTH`] no longer matters, the node is split at
+//!   the median instead, which bounds the depth by `SAH_DEPTH + log2(n)` and so the traversal
+//!   stack. Subtrees over more than [`PARALLEL_MIN`] primitives are built on rayon's threads.
+//! - **Layout.** Nodes are stored depth-first with the left child right after its parent; a leaf
+//!   holds a range of [`Bvh::order`], the primitive indices in leaf order (callers reorder their
+//!   primitives by it so a leaf's primitives are contiguous in memory).
+//! - **Traversal.** Slab tests against the reciprocal direction. The nearest-hit query visits the
+//!   nearer child first and skips boxes entered beyond the closest hit so far; the all-hits query
+//!   ([`Bvh::for_each_hit`]) visits every box the ray crosses and lets the visitor stop early.
+
+use glam::Vec3;
+
+use crate::geometry::Ray;
+
+/// Centroid bins per axis.
+pub const BINS: usize = 12;
+/// A node with at most this many primitives may become a leaf; a leaf never holds more.
+pub const MAX_LEAF: usize = 4;
+/// Below this depth splits are made at the median instead of by SAH.
+pub const SAH_DEPTH: usize = 48;
+/// Subtrees over more primitives than this are built in parallel.
+const PARALLEL_MIN: usize = 8192;
+/// Traversal stack size: at least the deepest tree [`Bvh::build`] makes (`SAH_DEPTH + 32` for
+/// up to 2^32 primitives).
+const STACK: usize = 96;
+
+/// An axis-aligned box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds {
+    /// Smallest corner.
+    pub min: Vec3,
+    /// Largest corner.
+    pub max: Vec3,
+}
+
+impl Bounds {
+    /// The empty box (union identity).
+    pub const EMPTY: Bounds = Bounds {
+        min: Vec3::INFINITY,
+        max: Vec3::NEG_INFINITY,
+    };
+
+    /// The smallest box holding both.
+    pub fn union(self, o: Bounds) -> Bounds {
+        Bounds {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
+        }
+    }
+
+    /// The smallest box holding `self` and `p`.
+    pub fn grow(self, p: Vec3) -> Bounds {
+        Bounds {
+            min: self.min.min(p),
+            max: self.max.max(p),
+        }
+    }
+
+    /// Centre.
+    pub fn center(&self) -> Vec3 {
+        (self.min + self.max) * 0.5
+    }
+
+    /// Half the surface area (0 for empty or flat boxes is fine: only ratios are used).
+    fn half_area(&self) -> f32 {
+        let e = (self.max - self.min).max(Vec3::ZERO);
+        e.x * e.y + e.y * e.z + e.z * e.x
+    }
+
+    /// The interval of `t` in which the ray (with `inv_dir = 1 / dir`) is inside the box,
+    /// clipped to `(t_min, t_max)`; `None` if empty.
+    #[inline]
+    fn slab(&self, origin: Vec3, inv_dir: Vec3, t_min: f32, t_max: f32) -> Option<f32> {
+        let t0 = (self.min - origin) * inv_dir;
+        let t1 = (self.max - origin) * inv_dir;
+        let near = t0.min(t1).max_element().max(t_min);
+        let far = t0.max(t1).min_element().min(t_max);
+        (near <= far).then_some(near)
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    bounds: Bounds,
+    /// Leaf: first index into `order`; inner node: index of the right child.
+    index: u32,
+    /// Leaf: number of primitives (> 0); inner node: 0.
+    count: u32,
+}
+
+/// The hierarchy. Empty (no primitives) is allowed: nothing is ever hit.
+#[derive(Clone, Debug)]
+pub struct Bvh {
+    nodes: Vec<Node>,
+    order: Vec<u32>,
+}
+
+/// What the visitor of [`Bvh::for_each_hit`] tells the traversal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Visit {
+    /// Keep going.
+    Continue,
+    /// Stop the traversal.
+    Stop,
+}
+
+impl Bvh {
+    /// Build over primitives with the given boxes (non-finite boxes are treated as empty and
+    /// never visited).
+    pub fn build(bounds: &[Bounds]) -> Bvh {
+        let mut order: Vec<u32> = (0..bounds.len() as u32).collect();
+        if bounds.is_empty() {
+            return Bvh {
+                nodes: Vec::new(),
+                order,
+            };
+        }
+        let centroids: Vec<Vec3> = bounds.iter().map(Bounds::center).collect();
+        let nodes = build_node(bounds, &centroids, &mut order, 0, 0);
+        Bvh { nodes, order }
+    }
+
+    /// Primitive indices in leaf order: leaf ranges index this array.
+    pub fn order(&self) -> &[u32] {
+        &self.order
+    }
+
+    /// Number of nodes.
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Depth of the tree (a single leaf has depth 1; empty has 0).
+    pub fn depth(&self) -> usize {
+        fn depth(nodes: &[Node], at: usize) -> usize {
+            let n = &nodes[at];
+            if n.count > 0 {
+                1
+            } else {
+                1 + depth(nodes, at + 1).max(depth(nodes, n.index as usize))
+            }
+        }
+        if self.nodes.is_empty() {
+            0
+        } else {
+            depth(&self.nodes, 0)
+        }
+    }
+
+    /// The nearest hit: `hit(position, ray)` is called for each primitive (by its position in
+    /// [`Bvh::order`]) in a leaf the ray reaches, with `ray.t_max` shrunk to the nearest hit so
+    /// far; it returns the hit distance, which must lie inside the ray's interval, and the hit's
+    /// data. Returns the nearest.
+    pub fn nearest<H>(
+        &self,
+        ray: &Ray,
+        mut hit: impl FnMut(usize, &Ray) -> Option<(f32, H)>,
+    ) -> Option<(f32, H)> {
+        if self.nodes.is_empty() {
+            return None;
+        }
+        let inv = ray.dir.recip();
+        let mut ray = *ray;
+        let mut best: Option<(f32, H)> = None;
+        let mut stack = [0u32; STACK];
+        let mut top = 0usize;
+        let mut at = 0usize;
+        self.nodes[0]
+            .bounds
+            .slab(ray.origin, inv, ray.t_min, ray.t_max)?;
+        loop {
+            let node = self.nodes[at];
+            if node.count > 0 {
+                let first = node.index as usize;
+                for pos in first..first + node.count as usize {
+                    if let Some((t, h)) = hit(pos, &ray)
+                        && t < ray.t_max
+                    {
+                        ray.t_max = t;
+                        best = Some((t, h));
+                    }
+                }
+            } else {
+                let (l, r) = (at + 1, node.index as usize);
+                let tl = self.nodes[l]
+                    .bounds
+                    .slab(ray.origin, inv, ray.t_min, ray.t_max);
+                let tr = self.nodes[r]
+                    .bounds
+                    .slab(ray.origin, inv, ray.t_min, ray.t_max);
+                match (tl, tr) {
+                    (Some(a), Some(b)) => {
+                        let (near, far) = if a <= b { (l, r) } else { (r, l) };
+                        if top < STACK {
+                            stack[top] = far as u32;
+                            top += 1;
+                        }
+                        at = near;
+                        continue;
+                    }
+                    (Some(_), None) => {
+                        at = l;
+                        continue;
+                    }
+                    (None, Some(_)) => {
+                        at = r;
+                        continue;
+                    }
+                    (None, None) => {}
+                }
+            }
+            // Pop the next node still in front of the nearest hit.
+            loop {
+                if top == 0 {
+                    return best;
+                }
+                top -= 1;
+                let n = stack[top] as usize;
+                if self.nodes[n]
+                    .bounds
+                    .slab(ray.origin, inv, ray.t_min, ray.t_max)
+                    .is_some()
+                {
+                    at = n;
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Visit every primitive in the leaves whose boxes the ray crosses (in no particular order)
+    /// until `visit` returns [`Visit::Stop`].
+    pub fn for_each_hit(&self, ray: &Ray, mut visit: impl FnMut(usize) -> Visit) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let inv = ray.dir.recip();
+        let mut stack = [0u32; STACK];
+        let mut top = 1usize;
+        while top > 0 {
+            top -= 1;
+            let at = stack[top] as usize;
+            let node = self.nodes[at];
+            if node
+                .bounds
+                .slab(ray.origin, inv, ray.t_min, ray.t_max)
+                .is_none()
+            {
+                continue;
+            }
+            if node.count > 0 {
+                let first = node.index as usize;
+                for pos in first..first + node.count as usize {
+                    if visit(pos) == Visit::Stop {
+                        return;
+                    }
+                }
+            } else if top + 2 <= STACK {
+                stack[top] = node.index;
+                stack[top + 1] = at as u32 + 1;
+                top += 2;
+            }
+        }
+    }
+}
+
+/// Build the subtree over `order` (which starts at `offset` in the final order) and return its
+/// nodes, root first.
+fn build_node(
+    bounds: &[Bounds],
+    centroids: &[Vec3],
+    order: &mut [u32],
+    offset: usize,
+    depth: usize,
+) -> Vec<Node> {
+    let n = order.len();
+    let node_bounds = order
+        .iter()
+        .map(|&i| bounds[i as usize])
+        .filter(|b| b.min.is_finite() && b.max.is_finite())
+        .fold(Bounds::EMPTY, Bounds::union);
+    let leaf = |order_len: usize| {
+        vec![Node {
+            bounds: node_bounds,
+            index: offset as u32,
+            count: order_len as u32,
+        }]
+    };
+    if n <= 1 {
+        return leaf(n);
+    }
+    let centroid_box = order
+        .iter()
+        .map(|&i| centroids[i as usize])
+        .filter(|c| c.is_finite())
+        .fold(Bounds::EMPTY, Bounds::grow);
+    let extent = centroid_box.max - centroid_box.min;
+    let mid = if depth < SAH_DEPTH && extent.max_element() > 0.0 {
+        match sah_split(bounds, centroids, order, &centroid_box, &node_bounds) {
+            Some(mid) => mid,
+            None if n <= MAX_LEAF => return leaf(n),
+            None => median_split(centroids, order, &centroid_box),
+        }
+    } else if n <= MAX_LEAF {
+        return leaf(n);
+    } else {
+        median_split(centroids, order, &centroid_box)
+    };
+    let (left, right) = order.split_at_mut(mid);
+    let (l_nodes, r_nodes) = if n > PARALLEL_MIN {
+        rayon::join(
+            || build_node(bounds, centroids, left, offset, depth + 1),
+            || build_node(bounds, centroids, right, offset + mid, depth + 1),
+        )
+    } else {
+        (
+            build_node(bounds, centroids, left, offset, depth + 1),
+            build_node(bounds, centroids, right, offset + mid, depth + 1),
+        )
+    };
+    let mut nodes = Vec::with_capacity(1 + l_nodes.len() + r_nodes.len());
+    nodes.push(Node {
+        bounds: node_bounds,
+        index: (1 + l_nodes.len()) as u32,
+        count: 0,
+    });
+    let base = 1u32;
+    nodes.extend(l_nodes.into_iter().map(|mut nd| {
+        if nd.count == 0 {
+            nd.index += base;
+        }
+        nd
+    }));
+    let base = nodes.len() as u32;
+    nodes.extend(r_nodes.into_iter().map(|mut nd| {
+        if nd.count == 0 {
+            nd.index += base;
+        }
+        nd
+    }));
+    nodes
+}
+
+/// Partition `order` at the cheapest SAH bin boundary; returns the split position, or `None`
+/// when a leaf is cheaper (only allowed for small nodes, see the caller) or no boundary
+/// separates anything.
+fn sah_split(
+    bounds: &[Bounds],
+    centroids: &[Vec3],
+    order: &mut [u32],
+    centroid_box: &Bounds,
+    node_bounds: &Bounds,
+) -> Option<usize> {
+    let n = order.len();
+    let extent = centroid_box.max - centroid_box.min;
+    let bin_of = |c: Vec3, axis: usize| -> usize {
+        let f = (c[axis] - centroid_box.min[axis]) / extent[axis] * BINS as f32;
+        (f as usize).min(BINS - 1)
+    };
+    let mut best: Option<(f32, usize, usize)> = None;
+    for axis in 0..3 {
+        if extent[axis] <= 0.0 {
+            continue;
+        }
+        let mut bin_bounds = [Bounds::EMPTY; BINS];
+        let mut bin_count = [0usize; BINS];
+        for &i in order.iter() {
+            let c = centroids[i as usize];
+            if !c.is_finite() {
+                continue;
+            }
+            let b = bin_of(c, axis);
+            bin_count[b] += 1;
+            bin_bounds[b] = bin_bounds[b].union(bounds[i as usize]);
+        }
+        // Sweep from the right to get the right side of every boundary.
+        let mut right_area = [0.0f32; BINS];
+        let mut right_count = [0usize; BINS];
+        let mut acc = Bounds::EMPTY;
+        let mut cnt = 0;
+        for b in (1..BINS).rev() {
+            acc = acc.union(bin_bounds[b]);
+            cnt += bin_count[b];
+            right_area[b] = acc.half_area();
+            right_count[b] = cnt;
+        }
+        let mut acc = Bounds::EMPTY;
+        let mut cnt = 0;
+        for b in 0..BINS - 1 {
+            acc = acc.union(bin_bounds[b]);
+            cnt += bin_count[b];
+            let (rc, ra) = (right_count[b + 1], right_area[b + 1]);
+            if cnt == 0 || rc == 0 {
+                continue;
+            }
+            let cost = acc.half_area() * cnt as f32 + ra * rc as f32;
+            if best.is_none_or(|(c, _, _)| cost < c) {
+                best = Some((cost, axis, b));
+            }
+        }
+    }
+    let (cost, axis, boundary) = best?;
+    let leaf_cost = node_bounds.half_area() * n as f32;
+    if n <= MAX_LEAF && cost >= leaf_cost {
+        return None;
+    }
+    // Partition in place: primitives in bins <= boundary go left (non-finite centroids right).
+    let mut mid = 0;
+    for k in 0..n {
+        let c = centroids[order[k] as usize];
+        if c.is_finite() && bin_of(c, axis) <= boundary {
+            order.swap(k, mid);
+            mid += 1;
+        }
+    }
+    (mid > 0 && mid < n).then_some(mid)
+}
+
+/// Split at the centroid median of the longest axis of the centroid box (by index when the box
+/// is a point).
+fn median_split(centroids: &[Vec3], order: &mut [u32], centroid_box: &Bounds) -> usize {
+    let mid = order.len() / 2;
+    let extent = centroid_box.max - centroid_box.min;
+    if extent.max_element().is_nan() || extent.max_element() <= 0.0 {
+        return mid;
+    }
+    let axis = if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    };
+    order.select_nth_unstable_by(mid, |&a, &b| {
+        centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis])
+    });
+    mid
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tress_hair::rng::Rng;
+
+    fn random_boxes(n: usize, seed: u64) -> Vec<Bounds> {
+        let mut rng = Rng::new(seed);
+        (0..n)
+            .map(|_| {
+                let c = Vec3::new(
+                    rng.range(-10.0, 10.0),
+                    rng.range(-10.0, 10.0),
+                    rng.range(-10.0, 10.0),
+                );
+                let h = Vec3::new(
+                    rng.range(0.0, 0.5),
+                    rng.range(0.0, 0.5),
+                    rng.range(0.0, 0.5),
+                );
+                Bounds {
+                    min: c - h,
+                    max: c + h,
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn every_primitive_is_in_exactly_one_leaf_and_inside_its_boxes() {
+        for n in [0usize, 1, 2, 5, 100, 20_000] {
+            let boxes = random_boxes(n, n as u64);
+            let bvh = Bvh::build(&boxes);
+            let mut seen = vec![0u32; n];
+            for &i in bvh.order() {
+                seen[i as usize] += 1;
+            }
+            assert!(seen.iter().all(|&c| c == 1), "n = {n}");
+            // Each leaf's primitives lie inside every ancestor's box.
+            fn check(bvh: &Bvh, boxes: &[Bounds], at: usize, outer: Bounds) -> usize {
+                let node = bvh.nodes[at];
+                let inside =
+                    |b: &Bounds| b.min.cmpge(outer.min).all() && b.max.cmple(outer.max).all();
+                assert!(inside(&node.bounds));
+                if node.count > 0 {
+                    assert!(node.count as usize <= MAX_LEAF.max(1));
+                    for &i in &bvh.order[node.index as usize..(node.index + node.count) as usize] {
+                        assert!(inside(&boxes[i as usize]));
+                    }
+                    node.count as usize
+                } else {
+                    check(bvh, boxes, at + 1, node.bounds)
+                        + check(bvh, boxes, node.index as usize, node.bounds)
+                }
+            }
+            if n > 0 {
+                let all = boxes.iter().copied().fold(Bounds::EMPTY, Bounds::union);
+                assert_eq!(check(&bvh, &boxes, 0, all), n);
+                assert!(bvh.depth() <= STACK, "depth {}", bvh.depth());
+            } else {
+                assert_eq!(bvh.depth(), 0);
+            }
+        }
+    }
+
+    #[test]
+    fn identical_boxes_still_build_shallow_enough() {
+        let b = Bounds {
+            min: Vec3::ZERO,
+            max: Vec3::ONE,
+        };
+        let bvh = Bvh::build(&vec![b; 10_000]);
+        assert_eq!(bvh.order().len(), 10_000);
+        assert!(bvh.depth() <= 20, "{}", bvh.depth());
+    }
+
+    #[test]
+    fn slab_test() {
+        let b = Bounds {
+            min: Vec3::splat(-1.0),
+            max: Vec3::splat(1.0),
+        };
+        let o = Vec3::new(0.0, 0.0, -5.0);
+        let inv = Vec3::Z.recip();
+        assert_eq!(b.slab(o, inv, 0.0, 100.0), Some(4.0));
+        assert_eq!(b.slab(o, inv, 0.0, 3.9), None);
+        assert_eq!(b.slab(Vec3::new(2.0, 0.0, -5.0), inv, 0.0, 100.0), None);
+        assert_eq!(b.slab(Vec3::ZERO, inv, 0.0, 100.0), Some(0.0));
+    }
+}

@@ -1,0 +1,105 @@
+//! Reference CPU ray tracer for tress scenes, and image-quality metrics.
+//!
+//! The hybrid hair paper (Jansson et al. 2019) compares its volume ambient occlusion with a
+//! ray-traced ground truth (§3.4, Figure 5). This crate renders that ground truth for any scene
+//! file: the same hair, head, camera, lights and material the GPU techniques draw, shaded with
+//! the same `tress-shading` formulas, but with every strand intersected as geometry, shadows and
+//! ambient occlusion traced through the translucent strands, and many samples per pixel. The
+//! [`metrics`] module scores a technique's image against it (mean FLIP, RMSE, SSIM).
+//!
+//! ```no_run
+//! # fn main() -> Result<(), tress_trace::TraceError> {
+//! let scene = tress_scene::Scene::from_path("scenes/demo.toml")?;
+//! let settings = tress_trace::TraceSettings { spp: 16, ..Default::default() };
+//! let image = tress_trace::render_reference(&scene, &settings)?;
+//! image.save("reference.png")?;
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! # Implementation
+//!
+//! - **Scene (as the GPU path reads it).** All `[[hair]]` entries merged; the head from
+//!   [`tress_scene::Scene::head_source`] (the generated ellipsoid meshed at 64 subdivisions, or
+//!   an OBJ through `TriMesh::read_obj`); directional lights with `l` = the scene's direction
+//!   towards the light and radiance `color · intensity`; the first hair entry's material; the
+//!   `[strands]` table's `alpha`, `width_px`, `shading` and `thickness_fade`, with the
+//!   rasterizer's defaults (0.6, 1.5 px, Kajiya-Kay, tip). The camera is a pinhole with the
+//!   scene's eye, target, up, vertical field of view and output size, clipped to its near and
+//!   far planes; pixel `(x, y)` covers the same film area as the GPU's pixel.
+//! - **Strands** are chains of capsules ([`geometry`]): each segment is a cylinder with
+//!   half-sphere caps, its radius interpolated along the segment. Their width
+//!   ([`StrandWidth`]): by default (`auto`) the physical thickness, the material's `thickness`
+//!   or else the asset's per-vertex thickness (Jansson §3: strands of constant radius; the
+//!   generators taper to a tenth at the tip); an asset without thickness is drawn like the GPU
+//!   rasterizer draws it (`screen`): a width in pixels converted to world units at each vertex's
+//!   distance from the camera (`2 · tan(fov_y / 2) · depth / height` per pixel). The default
+//!   screen width is half the GPU's `strands.width_px`: the rasterizer's ribbon is `width_px`
+//!   wide but its §3.2 coverage falls linearly from 1 at the centre to 0 at the edges, so it puts
+//!   down the ink of a solid line half as wide. In screen mode the GPU's `thickness_fade` scales
+//!   alpha as on the GPU (tip: thickness over the asset's thickest vertex; projected: the
+//!   projected thickness over `width_px`); in thickness mode the geometry itself tapers.
+//! - **Opacity.** A strand's alpha is `strands.alpha · (1 - transparency)` (per vertex,
+//!   interpolated), the rasterizer's strand alpha. Camera rays use *stochastic transparency*:
+//!   every strand the ray enters stops it with probability alpha, decided by a hash of the
+//!   camera sample and the primitive, inside one nearest-hit traversal; the expected result is
+//!   exactly front-to-back compositing, `Σ_k α_k Π_{j<k} (1 - α_j) c_k`, and it converges with
+//!   the pixel's samples. The head is opaque.
+//! - **Shadows** (§3.4's ground truth for ADSM). One ray per light from the hit (on the strand's
+//!   axis, skipping the hit segment and its two neighbours on the strand; or just off a head
+//!   triangle) towards the light: its transmittance is `Π (1 - α)` over every strand it enters,
+//!   exactly the `(1 - α)^n` that ADSM estimates with `n = d · r` and the volume counts with its
+//!   density, and 0 if it meets the head.
+//! - **Ambient occlusion** (§3.4, Figure 5). `ao_samples` cosine-weighted directions per camera
+//!   sample in the hemisphere around the surface normal, each contributing its transmittance
+//!   (translucent strands occlude by their alpha) up to `ao_radius`; their mean is the AO.
+//!   Strands have no surface normal: they use the rasterizer's Scheuermann normal (the direction
+//!   from the centre of the hair's bounds, perpendicular to the tangent), so the hemisphere faces
+//!   out of the hair volume: strands on the outside see the sky, strands inside or against the
+//!   head do not. The head uses its geometric normal facing the viewer. A point on an open plane
+//!   gets AO 1 and a point inside a closed box 0 (tested).
+//! - **Shading** uses the `tress-shading` twins of the GPU's WGSL with the rasterizer's inputs:
+//!   Kajiya-Kay ([`tress_shading::kajiya_kay`]) with the base color as `K_d` and the primary
+//!   highlight as `K_s`, `p`; or Scheuermann's [`tress_shading::hair_lighting`] with the
+//!   rasterizer's per-strand random shift and noise (the same hash, [`sampling::strand_random`]).
+//!   Per light the term is multiplied by the traced visibility; the ambient term `ambient · base`
+//!   by the AO (the GPU rasterizer has no AO: its ambient is unoccluded). The head is Lambert
+//!   (`head_color · (ambient · AO + Σ radiance · max(n·l, 0) · visibility)`) with two-sided
+//!   interpolated normals, like the GPU's head pass.
+//! - **Sampling.** `spp` camera samples per pixel on a jittered rank-1 (Fibonacci) lattice, which
+//!   is stratified along both image axes (thin strands are lines, so 1D stratification across
+//!   them is what reduces their aliasing), box-filtered. AO directions are stratified over the
+//!   pixel's samples the same way. Random numbers come from one SplitMix64 stream per pixel
+//!   seeded by `seed` and the pixel index, so images are deterministic whatever the thread
+//!   count. Rows are rendered in parallel with rayon.
+//! - **BVH** ([`bvh`]): one binned-SAH hierarchy over segments and triangles, primitives stored
+//!   in leaf order.
+//! - **AOVs** ([`Aov`]): the color, the AO, or the light visibility (luminance-weighted over the
+//!   lights) of the surface each sample stops at, averaged like the color; the background is
+//!   1 in the AO and shadow images.
+
+pub mod bvh;
+mod error;
+pub mod geometry;
+mod image;
+pub mod metrics;
+pub mod sampling;
+mod settings;
+mod tracer;
+
+pub use error::TraceError;
+pub use image::{DisplayImage, Image, ImageKind, linear_to_srgb};
+pub use settings::{Aov, SETTING_NAMES, StrandWidth, TraceSettings};
+pub use tracer::{HEAD_COLOR, HEAD_SUBDIVISIONS, Rendered, SceneGeometry, TraceStats, Tracer};
+
+/// Render the reference image of `scene` with `settings`: load its geometry, build the tracer
+/// and render (no progress reporting). This is what quality comparisons of the GPU techniques
+/// call for their ground truth.
+pub fn render_reference(
+    scene: &tress_scene::Scene,
+    settings: &TraceSettings,
+) -> Result<Image, TraceError> {
+    let geometry = SceneGeometry::load(scene)?;
+    let tracer = Tracer::new(scene, &geometry, settings)?;
+    Ok(tracer.render(&|_| {}).image)
+}
