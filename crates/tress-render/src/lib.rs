@@ -4,7 +4,8 @@
 //! (or borrows) a [`GpuContext`], builds a [`Renderer`], uploads hair with
 //! [`Renderer::upload_hair`] and a head with [`HeadGeometry::new`], then calls
 //! [`Renderer::render`] every frame with its [`Targets`] and [`FrameInputs`]. `frame.rs` shows a
-//! whole frame top to bottom; the strand technique lives in [`strands`].
+//! whole frame top to bottom; the strand technique lives in [`strands`], the polygon-patch
+//! technique in [`patches`] ([`PatchRenderer`]).
 //!
 //! ```no_run
 //! use tress_render::*;
@@ -39,6 +40,7 @@ mod frame;
 pub mod gpu;
 pub mod head;
 mod inputs;
+pub mod patches;
 pub mod scene_setup;
 pub mod shaders;
 mod stats;
@@ -52,6 +54,9 @@ pub use gpu::{
 };
 pub use head::{HeadGeometry, HeadMesh};
 pub use inputs::{Camera, DirectionalLight, Material};
+pub use patches::{
+    PatchFrameInputs, PatchFrameStats, PatchGeometry, PatchRenderer, PatchSettings, RenderScheme,
+};
 pub use scene_setup::PreparedScene;
 pub use stats::{FrameStats, GpuReport, StatsReadback};
 pub use strands::{PpllStats, Shading, StrandGeometry, StrandSettings, ThicknessFade};

@@ -186,6 +186,10 @@ pub fn strand_settings(scene: &Scene) -> Result<StrandSettings, RenderError> {
     Ok(s)
 }
 
+pub use crate::patches::scene::{
+    PatchScene, PatchSource, load_patches, patch_settings, patch_source,
+};
+
 /// Read a head mesh from an OBJ file ([`tress_hair::generate::TriMesh::read_obj`]: faces
 /// triangulated, normals from the file or the faces, hostile indices rejected). Errors name the
 /// file.

@@ -136,3 +136,27 @@ fn gpu_types_match_wgsl() {
         [requested, dropped, _pad0, _pad1]
     );
 }
+
+#[test]
+fn patch_types_match_wgsl() {
+    let text = shaders::compose("patches/patch_shade.wgsl").expect("composes");
+    let m = naga::front::wgsl::parse_str(&text).expect("parses");
+    check!(
+        &m,
+        "PatchVertex",
+        PatchVertex,
+        [position, ao, normal, u, tangent, v]
+    );
+    // PatchParams' trailing padding is implicit in WGSL, explicit in Rust.
+    let (size, members) = wgsl_layout(&m, "PatchParams");
+    assert_eq!(size as usize, size_of::<PatchParamsGpu>());
+    let rust: Vec<(String, u32)> = [
+        ("lighting", offset_of!(PatchParamsGpu, lighting)),
+        ("alpha_ref", offset_of!(PatchParamsGpu, alpha_ref)),
+        ("use_ao", offset_of!(PatchParamsGpu, use_ao)),
+    ]
+    .iter()
+    .map(|(n, o)| (n.to_string(), *o as u32))
+    .collect();
+    assert_eq!(members, rust);
+}

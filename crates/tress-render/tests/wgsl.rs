@@ -30,6 +30,12 @@ fn entry_modules_have_their_entry_points() {
         ("strands/shadow.wgsl", &["vs_strand", "vs_head"]),
         ("strands/ppll_build.wgsl", &["vs_main", "fs_main"]),
         ("strands/ppll_resolve.wgsl", &["vs_main", "fs_main"]),
+        ("patches/z_prime.wgsl", &["vs_main", "fs_main"]),
+        (
+            "patches/patch_shade.wgsl",
+            &["vs_main", "fs_main", "fs_opaque", "fs_transparent"],
+        ),
+        ("patches/patch_head.wgsl", &["vs_main", "fs_main"]),
     ];
     assert_eq!(expect.len(), shaders::ENTRY_MODULES.len());
     for (path, entries) in expect {

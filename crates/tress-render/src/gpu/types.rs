@@ -194,6 +194,39 @@ pub struct HeadVertex {
     pub normal: [f32; 3],
 }
 
+/// `struct PatchVertex` in `patches/geometry.wgsl`: one vertex of a polygon-patch mesh (vertex
+/// buffer, locations 0 to 5).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct PatchVertex {
+    /// World position.
+    pub position: [f32; 3],
+    /// Baked ambient occlusion in `[0, 1]` (1: unoccluded).
+    pub ao: f32,
+    /// Unit normal.
+    pub normal: [f32; 3],
+    /// Texture coordinate across the patch.
+    pub u: f32,
+    /// Unit tangent, root to tip.
+    pub tangent: [f32; 3],
+    /// Texture coordinate from root (0) to tip (1).
+    pub v: f32,
+}
+
+/// `struct PatchParams` in `patches/geometry.wgsl`: the patch technique's shader constants.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct PatchParamsGpu {
+    /// The slide's `HairLighting` constants.
+    pub lighting: HairLightingGpu,
+    /// Alpha test reference: alpha at or above it is opaque.
+    pub alpha_ref: f32,
+    /// 1: multiply by the baked ambient occlusion; 0: ignore it.
+    pub use_ao: u32,
+    /// Padding to the struct's 16-byte alignment.
+    pub _pad: [f32; 2],
+}
+
 /// Convert a glam matrix for upload.
 pub fn mat4(m: glam::Mat4) -> Mat4Gpu {
     m.to_cols_array_2d()

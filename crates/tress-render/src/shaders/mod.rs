@@ -44,6 +44,22 @@ pub const SOURCES: &[(&str, &str)] = &[
         "strands/ppll_resolve.wgsl",
         include_str!("../strands/ppll_resolve.wgsl"),
     ),
+    (
+        "patches/geometry.wgsl",
+        include_str!("../patches/geometry.wgsl"),
+    ),
+    (
+        "patches/z_prime.wgsl",
+        include_str!("../patches/z_prime.wgsl"),
+    ),
+    (
+        "patches/patch_shade.wgsl",
+        include_str!("../patches/patch_shade.wgsl"),
+    ),
+    (
+        "patches/patch_head.wgsl",
+        include_str!("../patches/patch_head.wgsl"),
+    ),
 ];
 
 /// The modules pipelines are created from (every other file is only included).
@@ -52,6 +68,9 @@ pub const ENTRY_MODULES: &[&str] = &[
     "strands/shadow.wgsl",
     "strands/ppll_build.wgsl",
     "strands/ppll_resolve.wgsl",
+    "patches/z_prime.wgsl",
+    "patches/patch_shade.wgsl",
+    "patches/patch_head.wgsl",
 ];
 
 /// The source of the file at `path`, if the crate has it.

@@ -1,0 +1,66 @@
+// The shading passes of the patch technique (Scheuermann 2004, slides "Putting it All Together"
+// and "Sorted/Optimized Rendering Scheme"): the slide's `HairLighting` per light through the
+// shared `shading.wgsl` functions, summed over the lights, plus the ambient light times base and
+// ambient occlusion. The pass states (depth compare, culling, writes) live in the pipelines;
+// the entry point picks the alpha test. Owner: `PatchShade`.
+
+#include "patches/geometry.wgsl"
+#include "common/lights.wgsl"
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(1) @binding(0) var<uniform> lights: Lights;
+
+@vertex
+fn vs_main(in: PatchVertex) -> PatchVarying {
+    return patch_vertex(camera, in);
+}
+
+// Straight (not premultiplied) color and alpha of a fragment.
+fn shade(in: PatchVarying) -> vec4<f32> {
+    let base = textureSample(base_texture, patch_sampler, in.uv).rgb;
+    let alpha = patch_alpha(in.uv);
+    let shift_tex = textureSample(spec_shift_texture, patch_sampler, in.uv).r;
+    let spec_mask = textureSample(spec_noise_texture, patch_sampler, in.uv).r;
+    // Interpolated frames are renormalized, and the tangent made perpendicular to the normal
+    // again (ShiftTangent assumes T ⟂ N).
+    let n_len = length(in.normal);
+    let n = select(vec3<f32>(0.0, 0.0, 1.0), in.normal / max(n_len, 1e-20), n_len > 1e-20);
+    let t_perp = in.tangent - n * dot(n, in.tangent);
+    let t_len = length(t_perp);
+    let t = select(vec3<f32>(0.0, 1.0, 0.0), t_perp / max(t_len, 1e-20), t_len > 1e-20);
+    let amb_occ = select(1.0, saturate(in.ao), patch_params.use_ao != 0u);
+    let s = HairSample(t, shift_tex, n, spec_mask, base, amb_occ);
+    let v = camera_to_eye(camera, in.world);
+    var rgb = lights.ambient * base * amb_occ;
+    for (var i = 0u; i < min(lights.count, MAX_LIGHTS); i = i + 1u) {
+        let light = lights.lights[i];
+        rgb = rgb + hair_lighting(patch_params.lighting, s, light.to_light, light_radiance(light), v);
+    }
+    return vec4<f32>(rgb, alpha);
+}
+
+// No alpha test: the 4-pass scheme's passes 2 to 4 resolve opacity with the primed depth.
+@fragment
+fn fs_main(in: PatchVarying) -> @location(0) vec4<f32> {
+    return shade(in);
+}
+
+// Alpha test passing only opaque pixels (the 3-pass scheme's pass 1).
+@fragment
+fn fs_opaque(in: PatchVarying) -> @location(0) vec4<f32> {
+    let c = shade(in);
+    if c.a < patch_params.alpha_ref {
+        discard;
+    }
+    return c;
+}
+
+// Alpha test passing only non-opaque pixels (the 3-pass scheme's passes 2 and 3).
+@fragment
+fn fs_transparent(in: PatchVarying) -> @location(0) vec4<f32> {
+    let c = shade(in);
+    if c.a >= patch_params.alpha_ref {
+        discard;
+    }
+    return c;
+}

@@ -1,0 +1,478 @@
+//! A whole patch frame, top to bottom: [`PatchRenderer::render`].
+//!
+//! ```text
+//! uniforms     camera, lights, head material, patch constants
+//! head         clear (optional), opaque head with depth writes          (PatchHead)
+//! 4-pass       patches/z_prime  alpha-tested depth only, no culling      (ZPrime)
+//!              patches/opaque   full shader, depth Equal, no Z writes    (PatchShade)
+//!              patches/back     front faces culled, no Z writes, Less    (PatchShade)
+//!              patches/front    back faces culled, Z writes, Less        (PatchShade)
+//! 3-pass       patches/opaque (alpha test), patches/back, patches/front (alpha test inverted)
+//! readback     timestamps -> PatchFrameStats
+//! ```
+
+use glam::Vec3;
+use tress_hair::patches::HairTextures;
+use wgpu::util::DeviceExt;
+
+use super::passes::PassShader;
+use super::{
+    PASS_NAMES, PatchGeometry, PatchHead, PatchLayouts, PatchSettings, PatchShade, PatchTextures,
+    RenderScheme, TextureSlot, ZPrime,
+};
+use crate::gpu::types::{CameraUniform, LightsUniform};
+use crate::gpu::{GpuTimer, TargetFormats, Targets, Timings};
+use crate::head::HeadGeometry;
+use crate::stats::{ReadbackRing, SlotInfo, StatsReadback};
+use crate::{Camera, DirectionalLight, GpuContext, MAX_LIGHTS, RenderError};
+
+/// Everything a patch frame draws. Plain data: the application owns geometry and targets.
+#[derive(Clone, Debug)]
+pub struct PatchFrameInputs<'a> {
+    /// The camera; its viewport must equal the targets' size.
+    pub camera: Camera,
+    /// Directional lights (at most [`MAX_LIGHTS`]); each adds one `HairLighting` term.
+    pub lights: &'a [DirectionalLight],
+    /// Ambient light, linear RGB (adds `ambient · base · ao`; zero gives the slide's formula).
+    pub ambient: Vec3,
+    /// Head mesh color, linear RGB.
+    pub head_color: Vec3,
+    /// The patches, if any.
+    pub patches: Option<&'a PatchGeometry>,
+    /// The opaque head, drawn first, if any.
+    pub head: Option<&'a HeadGeometry>,
+    /// Clear color and depth first (linear RGBA), or `None` to draw over what the targets hold.
+    pub clear: Option<wgpu::Color>,
+}
+
+/// What [`PatchRenderer::render`] returns.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PatchFrameStats {
+    /// Index of this frame (from 0).
+    pub frame: u64,
+    /// Target size in pixels.
+    pub size: [u32; 2],
+    /// Triangles drawn per pass.
+    pub triangles: u32,
+    /// The scheme the frame used.
+    pub scheme: RenderScheme,
+    /// Per-pass GPU times: this frame's with [`StatsReadback::Wait`], the newest available
+    /// otherwise (`None` when none has arrived yet).
+    pub timings: Option<Timings>,
+    /// The frame `timings` belong to.
+    pub timings_frame: Option<u64>,
+}
+
+/// The patch renderer with its head pass: renders into caller-provided targets.
+#[derive(Debug)]
+pub struct PatchRenderer {
+    formats: TargetFormats,
+    settings: PatchSettings,
+    layouts: PatchLayouts,
+    camera: wgpu::Buffer,
+    lights: wgpu::Buffer,
+    head_color: wgpu::Buffer,
+    patch_params: wgpu::Buffer,
+    view_group: wgpu::BindGroup,
+    lights_group: wgpu::BindGroup,
+    textures_cpu: HairTextures,
+    textures_given: bool,
+    textures: PatchTextures,
+    material_group: wgpu::BindGroup,
+    head: PatchHead,
+    z_prime: ZPrime,
+    shade: PatchShade,
+    timer: GpuTimer,
+    ring: ReadbackRing,
+    stats_readback: StatsReadback,
+    frame: u64,
+}
+
+fn uniform_buffer<T: bytemuck::Pod>(ctx: &GpuContext, label: &str, value: &T) -> wgpu::Buffer {
+    ctx.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytemuck::bytes_of(value),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        })
+}
+
+fn generate_textures(settings: &PatchSettings) -> Result<HairTextures, RenderError> {
+    HairTextures::generate(&settings.textures)
+        .map_err(|e| RenderError::Invalid(format!("patches.textures: {e}")))
+}
+
+impl PatchRenderer {
+    /// Build the pipelines for targets of `formats`, with `settings` (validated) and the
+    /// procedural textures they describe.
+    pub fn new(
+        ctx: &GpuContext,
+        formats: TargetFormats,
+        settings: PatchSettings,
+    ) -> Result<Self, RenderError> {
+        settings.validate()?;
+        let textures = generate_textures(&settings)?;
+        Self::build(ctx, formats, settings, textures, false)
+    }
+
+    /// Like [`PatchRenderer::new`], with explicit textures (e.g. read from PNG files) instead of
+    /// the procedural ones.
+    pub fn with_textures(
+        ctx: &GpuContext,
+        formats: TargetFormats,
+        settings: PatchSettings,
+        textures: HairTextures,
+    ) -> Result<Self, RenderError> {
+        settings.validate()?;
+        Self::build(ctx, formats, settings, textures, true)
+    }
+
+    fn build(
+        ctx: &GpuContext,
+        formats: TargetFormats,
+        settings: PatchSettings,
+        textures_cpu: HairTextures,
+        textures_given: bool,
+    ) -> Result<Self, RenderError> {
+        let layouts = ctx.scoped("creating the patch bind group layouts", || {
+            PatchLayouts::new(&ctx.device)
+        })?;
+        let textures = PatchTextures::new(ctx, &textures_cpu, settings.mipmaps)?;
+        let (camera, lights, head_color, patch_params) = ctx.scoped("creating uniforms", || {
+            (
+                uniform_buffer(ctx, "patches/uniforms/camera", &CameraUniform::default()),
+                uniform_buffer(ctx, "patches/uniforms/lights", &LightsUniform::default()),
+                uniform_buffer(ctx, "patches/uniforms/head-color", &[0.0f32; 4]),
+                uniform_buffer(ctx, "patches/uniforms/params", &settings.params()),
+            )
+        })?;
+        let (view_group, lights_group) = ctx.scoped("creating the patch bind groups", || {
+            let view_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("patches/view/bind-group"),
+                layout: &layouts.view,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: camera.as_entire_binding(),
+                }],
+            });
+            let lights_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("patches/lights/bind-group"),
+                layout: &layouts.lights,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: lights.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: head_color.as_entire_binding(),
+                    },
+                ],
+            });
+            (view_group, lights_group)
+        })?;
+        let material_group =
+            Self::material_group(ctx, &layouts.material, &patch_params, &textures)?;
+        let timer = GpuTimer::new(ctx, "patches", PASS_NAMES);
+        let ring = ReadbackRing::new(ctx, &timer, 3);
+        Ok(PatchRenderer {
+            head: PatchHead::new(ctx, &layouts.view, &layouts.lights, formats.color)?,
+            z_prime: ZPrime::new(ctx, &layouts, formats.color)?,
+            shade: PatchShade::new(ctx, &layouts, formats.color, settings.scheme)?,
+            formats,
+            settings,
+            layouts,
+            camera,
+            lights,
+            head_color,
+            patch_params,
+            view_group,
+            lights_group,
+            textures_cpu,
+            textures_given,
+            textures,
+            material_group,
+            timer,
+            ring,
+            stats_readback: StatsReadback::Wait,
+            frame: 0,
+        })
+    }
+
+    fn material_group(
+        ctx: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
+        params: &wgpu::Buffer,
+        textures: &PatchTextures,
+    ) -> Result<wgpu::BindGroup, RenderError> {
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: params.as_entire_binding(),
+        }];
+        entries.extend(TextureSlot::ALL.iter().enumerate().map(|(i, &slot)| {
+            wgpu::BindGroupEntry {
+                binding: 1 + i as u32,
+                resource: wgpu::BindingResource::TextureView(textures.view(slot)),
+            }
+        }));
+        entries.push(wgpu::BindGroupEntry {
+            binding: 5,
+            resource: wgpu::BindingResource::Sampler(&textures.sampler),
+        });
+        ctx.scoped("creating the patch material bind group", || {
+            ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("patches/material/bind-group"),
+                layout,
+                entries: &entries,
+            })
+        })
+    }
+
+    /// Upload a patch mesh sorted around `sort_center` (same as [`PatchGeometry::new`]).
+    pub fn upload_patches(
+        &self,
+        ctx: &GpuContext,
+        mesh: &tress_hair::patches::PatchMesh,
+        sort_center: Vec3,
+    ) -> Result<PatchGeometry, RenderError> {
+        PatchGeometry::new(ctx, mesh, sort_center)
+    }
+
+    /// The current settings.
+    pub fn settings(&self) -> &PatchSettings {
+        &self.settings
+    }
+
+    /// The textures in use (procedural or given).
+    pub fn textures(&self) -> &HairTextures {
+        &self.textures_cpu
+    }
+
+    /// Change settings (validated). A new scheme rebuilds the shading pipelines; new texture
+    /// parameters regenerate the procedural textures (textures given with
+    /// [`PatchRenderer::set_textures`] are kept).
+    pub fn set_settings(
+        &mut self,
+        ctx: &GpuContext,
+        settings: PatchSettings,
+    ) -> Result<(), RenderError> {
+        settings.validate()?;
+        if settings.scheme != self.shade.scheme() {
+            self.shade = PatchShade::new(ctx, &self.layouts, self.formats.color, settings.scheme)?;
+        }
+        let regenerate = !self.textures_given && settings.textures != self.settings.textures;
+        if regenerate || settings.mipmaps != self.settings.mipmaps {
+            let cpu = if regenerate {
+                generate_textures(&settings)?
+            } else {
+                self.textures_cpu.clone()
+            };
+            self.upload_textures(ctx, cpu, settings.mipmaps)?;
+        }
+        self.settings = settings;
+        Ok(())
+    }
+
+    /// Replace the textures (validated; e.g. read from PNG files).
+    pub fn set_textures(
+        &mut self,
+        ctx: &GpuContext,
+        textures: HairTextures,
+    ) -> Result<(), RenderError> {
+        self.upload_textures(ctx, textures, self.settings.mipmaps)?;
+        self.textures_given = true;
+        Ok(())
+    }
+
+    fn upload_textures(
+        &mut self,
+        ctx: &GpuContext,
+        cpu: HairTextures,
+        mipmaps: bool,
+    ) -> Result<(), RenderError> {
+        let gpu = PatchTextures::new(ctx, &cpu, mipmaps)?;
+        self.material_group =
+            Self::material_group(ctx, &self.layouts.material, &self.patch_params, &gpu)?;
+        self.textures = gpu;
+        self.textures_cpu = cpu;
+        Ok(())
+    }
+
+    /// How `render` reports GPU times (default [`StatsReadback::Wait`]).
+    pub fn set_stats_readback(&mut self, mode: StatsReadback) {
+        self.stats_readback = mode;
+    }
+
+    /// Render one frame into `targets` and submit it on `ctx.queue`.
+    pub fn render(
+        &mut self,
+        ctx: &GpuContext,
+        targets: &Targets<'_>,
+        inputs: &PatchFrameInputs<'_>,
+    ) -> Result<PatchFrameStats, RenderError> {
+        // ---- validate inputs (never panic on user data)
+        let size = targets.validate(self.formats)?;
+        inputs.camera.validate()?;
+        if inputs.camera.viewport != size {
+            return Err(RenderError::Target(format!(
+                "camera viewport {:?} differs from the target size {size:?}",
+                inputs.camera.viewport
+            )));
+        }
+        if inputs.lights.len() > MAX_LIGHTS {
+            return Err(RenderError::Invalid(format!(
+                "{} lights given, at most {MAX_LIGHTS} supported",
+                inputs.lights.len()
+            )));
+        }
+        if !inputs.ambient.is_finite() || !inputs.head_color.is_finite() {
+            return Err(RenderError::Invalid(
+                "ambient light and head color must be finite".into(),
+            ));
+        }
+
+        // ---- uniforms
+        let mut lights = LightsUniform {
+            ambient: inputs.ambient.to_array(),
+            count: inputs.lights.len() as u32,
+            ..Default::default()
+        };
+        for (i, light) in inputs.lights.iter().enumerate() {
+            lights.lights[i] = light.uniform(glam::Mat4::IDENTITY, 1.0)?;
+        }
+        let head_color = inputs.head_color.extend(1.0).to_array();
+        let q = &ctx.queue;
+        q.write_buffer(
+            &self.camera,
+            0,
+            bytemuck::bytes_of(&inputs.camera.uniform()),
+        );
+        q.write_buffer(&self.lights, 0, bytemuck::bytes_of(&lights));
+        q.write_buffer(&self.head_color, 0, bytemuck::bytes_of(&head_color));
+        q.write_buffer(
+            &self.patch_params,
+            0,
+            bytemuck::bytes_of(&self.settings.params()),
+        );
+
+        let frame = self.frame;
+        self.frame += 1;
+        let slot = self.ring.idle();
+        let scheme = self.settings.scheme;
+        let patches = inputs.patches.filter(|p| p.triangle_count() > 0);
+        let timer = &mut self.timer;
+        let ring = &mut self.ring;
+        let (view, lighting, material) =
+            (&self.view_group, &self.lights_group, &self.material_group);
+        let (head_pass, z_prime, shade) = (&self.head, &self.z_prime, &self.shade);
+        ctx.scoped("rendering a patch frame", || {
+            timer.begin_frame();
+            let mut encoder = ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("patches/frame/encoder"),
+                });
+            // ---- the head first, depth written (slide "Performance Tuning")
+            {
+                let (color_load, depth_load) = match inputs.clear {
+                    Some(c) => (wgpu::LoadOp::Clear(c), wgpu::LoadOp::Clear(1.0)),
+                    None => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+                };
+                let mut pass = begin_pass(
+                    &mut encoder,
+                    targets,
+                    "patches/head/pass",
+                    (color_load, depth_load),
+                    timer.render_writes("head", true, true),
+                );
+                if let Some(head) = inputs.head {
+                    pass.set_bind_group(0, view, &[]);
+                    pass.set_bind_group(1, lighting, &[]);
+                    head_pass.draw(&mut pass, head);
+                }
+            }
+            // ---- the scheme's passes over the static inside-to-outside index buffer
+            if let Some(geometry) = patches {
+                for p in scheme.passes() {
+                    let label = format!("{}/pass", p.name);
+                    let mut pass = begin_pass(
+                        &mut encoder,
+                        targets,
+                        &label,
+                        (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+                        timer.render_writes(p.name, true, true),
+                    );
+                    pass.set_bind_group(0, view, &[]);
+                    pass.set_bind_group(2, material, &[]);
+                    match p.shader {
+                        PassShader::AlphaOnly => z_prime.draw(&mut pass, geometry),
+                        PassShader::Full => {
+                            pass.set_bind_group(1, lighting, &[]);
+                            shade.draw(&mut pass, p, geometry);
+                        }
+                    }
+                }
+            }
+            // ---- timestamps readback
+            if let Some(i) = slot {
+                let info = SlotInfo {
+                    frame,
+                    capacity: 0,
+                    head_bytes: 0,
+                    counters: false,
+                };
+                ring.record(i, &mut encoder, None, timer, info);
+            }
+            ctx.queue.submit([encoder.finish()]);
+            if let Some(i) = slot {
+                ring.map(i);
+            }
+        })?;
+
+        let report = match (self.stats_readback, slot) {
+            (StatsReadback::Wait, Some(i)) => self.ring.wait(ctx, &self.timer, i)?,
+            _ => self.ring.harvest(ctx, &self.timer)?,
+        };
+        Ok(PatchFrameStats {
+            frame,
+            size,
+            triangles: patches.map_or(0, |p| p.triangle_count()),
+            scheme,
+            timings_frame: report.as_ref().map(|r| r.frame),
+            timings: report.map(|r| r.timings),
+        })
+    }
+}
+
+/// A render pass over both targets with the given load operations.
+fn begin_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    targets: &Targets<'_>,
+    label: &str,
+    (color_load, depth_load): (wgpu::LoadOp<wgpu::Color>, wgpu::LoadOp<f32>),
+    timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: targets.color,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: color_load,
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: targets.depth,
+            depth_ops: Some(wgpu::Operations {
+                load: depth_load,
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}

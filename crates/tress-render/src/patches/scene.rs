@@ -1,0 +1,479 @@
+//! From a [`Scene`] to the patch technique's inputs: the `[patches]` table ([`patch_settings`])
+//! and the patch mesh with its textures ([`load_patches`]).
+//!
+//! Settings start from [`PatchSettings::default`], take the first `[[hair]]` entry's material
+//! (its highlight constants, and its base color as the base texture's color), then every key of
+//! `[patches]`. The mesh comes from one of three sources (`patches.source`):
+//!
+//! - `"obj"`: the hair-card OBJ file `patches.obj` (relative to the scene's folder), AO as stored
+//!   in the file;
+//! - `"strands"`: the scene's `[[hair]]` assets (merged) converted to cards
+//!   (`tress_hair::patches::PatchMesh::from_strands`, `[patches.cards]`);
+//! - `"generated"`: layered patches grown on the scene's generated head
+//!   (`tress_hair::patches::generate_patches`, `[patches.generator]`);
+//! - `"auto"` (default): `"obj"` when `patches.obj` is given, else `"strands"` when the scene has
+//!   hair, else `"generated"`.
+//!
+//! AO is baked on load (`[patches.ao]`, `tress_hair::patches::bake_ao` against the patches and
+//! the head) for generated and converted meshes, and not for OBJ files, which carry their own
+//! (`ao.bake` overrides either way). Textures are procedural (`[patches.textures]`) unless PNG
+//! files are named (`textures.base_png`, `alpha_png`, `spec_shift_png`, `spec_noise_png`).
+//!
+//! ```toml
+//! [patches]
+//! scheme = "4-pass"            # or "3-pass"
+//! alpha_ref = 0.99             # alpha test: alpha >= alpha_ref is opaque
+//! ambient_occlusion = true
+//! mipmaps = true
+//! diffuse_color = [1.0, 1.0, 1.0]
+//! primary_color = [0.3, 0.3, 0.3]
+//! primary_exponent = 80.0
+//! primary_shift = -0.1
+//! secondary_color = [0.5, 0.4, 0.3]
+//! secondary_exponent = 16.0
+//! secondary_shift = 0.1
+//! source = "auto"              # auto | generated | obj | strands
+//! # obj = "cards.obj"
+//! generator = { layers = 4, patches_per_layer = 64, segments = 12, length = 25.0, seed = 0 }
+//! cards = { cards = 400, segments = 16, width_scale = 2.0, min_width = 0.2, seed = 0 }
+//! ao = { rays = 64, max_distance = 8.0, sides = "max", patch_opacity = 0.55, seed = 0 }
+//! textures = { width = 256, height = 512, seed = 0, strands = 48 }
+//! ```
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use glam::Vec3;
+use serde::Deserialize;
+use tress_hair::HairAsset;
+use tress_hair::generate::{Head, TriMesh};
+use tress_hair::patches::{
+    AoParams, AoSides, CardParams, HairTextures, PatchMesh, PatchParams, bake_ao, generate_patches,
+};
+use tress_scene::{HeadSource, Scene};
+
+use super::{PatchSettings, RenderScheme, TextureSlot, load_texture_png};
+use crate::scene_setup::PreparedScene;
+use crate::{HeadMesh, RenderError};
+
+/// `[patches.generator]`.
+#[derive(Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields, default)]
+struct GeneratorTable {
+    layers: Option<u32>,
+    patches_per_layer: Option<u32>,
+    segments: Option<u32>,
+    length: Option<f32>,
+    inner_length: Option<f32>,
+    width: Option<f32>,
+    overlap: Option<f32>,
+    tip_width: Option<f32>,
+    layer_spacing: Option<f32>,
+    waviness: Option<f32>,
+    seed: Option<u64>,
+}
+
+/// `[patches.cards]`.
+#[derive(Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields, default)]
+struct CardTable {
+    cards: Option<u32>,
+    segments: Option<u32>,
+    width_scale: Option<f32>,
+    min_width: Option<f32>,
+    iterations: Option<u32>,
+    seed: Option<u64>,
+}
+
+/// `[patches.ao]`.
+#[derive(Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields, default)]
+struct AoTable {
+    bake: Option<bool>,
+    rays: Option<u32>,
+    max_distance: Option<f32>,
+    seed: Option<u64>,
+    sides: Option<String>,
+    patch_opacity: Option<f32>,
+}
+
+/// `[patches.textures]`.
+#[derive(Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields, default)]
+struct TextureTable {
+    width: Option<u32>,
+    height: Option<u32>,
+    seed: Option<u64>,
+    strands: Option<u32>,
+    base_color: Option<Vec3>,
+    contrast: Option<f32>,
+    edge: Option<f32>,
+    tip_start: Option<f32>,
+    tip_fade: Option<f32>,
+    shift_amplitude: Option<f32>,
+    sparkle_threshold: Option<f32>,
+    base_png: Option<PathBuf>,
+    alpha_png: Option<PathBuf>,
+    spec_shift_png: Option<PathBuf>,
+    spec_noise_png: Option<PathBuf>,
+}
+
+/// The `[patches]` table: every key optional, unknown keys are errors naming key and line.
+#[derive(Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields, default)]
+struct PatchTable {
+    scheme: Option<String>,
+    alpha_ref: Option<f32>,
+    ambient_occlusion: Option<bool>,
+    mipmaps: Option<bool>,
+    diffuse_color: Option<Vec3>,
+    primary_color: Option<Vec3>,
+    primary_exponent: Option<f32>,
+    primary_shift: Option<f32>,
+    secondary_color: Option<Vec3>,
+    secondary_exponent: Option<f32>,
+    secondary_shift: Option<f32>,
+    source: Option<String>,
+    obj: Option<PathBuf>,
+    generator: GeneratorTable,
+    cards: CardTable,
+    ao: AoTable,
+    textures: TextureTable,
+}
+
+fn table(scene: &Scene) -> Result<PatchTable, RenderError> {
+    scene
+        .technique_settings("patches")
+        .map_err(|e| RenderError::Invalid(e.to_string()))
+}
+
+macro_rules! set {
+    ($dst:expr, $src:expr, $($f:ident),*) => { $( if let Some(v) = $src.$f { $dst.$f = v; } )* };
+}
+
+/// Patch settings from the scene: defaults, then the first hair entry's material, then
+/// `[patches]` (see the module docs). Validated.
+pub fn patch_settings(scene: &Scene) -> Result<PatchSettings, RenderError> {
+    let t = table(scene)?;
+    let mut s = PatchSettings::default();
+    if let Some(h) = scene.hair.first() {
+        s.lighting = h.material.hair_lighting();
+        s.textures.base_color = h.material.base_color;
+    }
+    if let Some(name) = &t.scheme {
+        s.scheme = name.parse::<RenderScheme>()?;
+    }
+    set!(s, t, alpha_ref, ambient_occlusion, mipmaps);
+    set!(
+        s.lighting,
+        t,
+        diffuse_color,
+        primary_color,
+        primary_exponent,
+        primary_shift,
+        secondary_color,
+        secondary_exponent,
+        secondary_shift
+    );
+    let tx = &t.textures;
+    set!(
+        s.textures,
+        tx,
+        width,
+        height,
+        seed,
+        strands,
+        base_color,
+        contrast,
+        edge,
+        tip_start,
+        tip_fade,
+        shift_amplitude,
+        sparkle_threshold
+    );
+    s.validate()?;
+    Ok(s)
+}
+
+/// Where the patch mesh comes from (see the module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub enum PatchSource {
+    /// Layered patches on the generated head.
+    Generated,
+    /// A hair-card OBJ file (resolved path).
+    Obj(PathBuf),
+    /// The scene's hair assets converted to cards.
+    Strands,
+}
+
+impl PatchSource {
+    /// The setting's spelling.
+    pub fn name(&self) -> &'static str {
+        match self {
+            PatchSource::Generated => "generated",
+            PatchSource::Obj(_) => "obj",
+            PatchSource::Strands => "strands",
+        }
+    }
+}
+
+/// The patch source the scene selects (see the module docs).
+pub fn patch_source(scene: &Scene) -> Result<PatchSource, RenderError> {
+    let t = table(scene)?;
+    let obj = t.obj.as_deref().map(|p| scene.resolve(p));
+    match (t.source.as_deref().unwrap_or("auto"), obj) {
+        ("auto", Some(p)) | ("obj", Some(p)) => Ok(PatchSource::Obj(p)),
+        ("obj", None) => Err(RenderError::Invalid(
+            "patches.source = \"obj\" needs patches.obj".into(),
+        )),
+        ("auto", None) if !scene.hair.is_empty() => Ok(PatchSource::Strands),
+        ("auto", None) | ("generated", _) => Ok(PatchSource::Generated),
+        ("strands", _) if scene.hair.is_empty() => Err(RenderError::Invalid(
+            "patches.source = \"strands\" needs a [[hair]] entry".into(),
+        )),
+        ("strands", _) => Ok(PatchSource::Strands),
+        (other, _) => Err(RenderError::Invalid(format!(
+            "unknown patches.source `{other}` (expected auto, generated, obj or strands)"
+        ))),
+    }
+}
+
+/// A scene's patch mesh and textures, ready to upload.
+#[derive(Clone, Debug)]
+pub struct PatchScene {
+    /// The mesh (AO baked when asked).
+    pub mesh: PatchMesh,
+    /// The four textures (procedural, or read from the PNG files named in the scene).
+    pub textures: HairTextures,
+    /// Whether any texture came from a file.
+    pub textures_from_files: bool,
+    /// The point patches are sorted around: the head centre (the mesh's centre without head).
+    pub sort_center: Vec3,
+    /// Where the mesh came from.
+    pub source: PatchSource,
+    /// Seconds the AO bake took, when it ran.
+    pub ao_bake_seconds: Option<f64>,
+}
+
+/// The generated-head parameters of `[patches.generator]` around `head`.
+fn generator_params(t: &GeneratorTable, head: Head) -> PatchParams {
+    let mut p = PatchParams {
+        head,
+        ..PatchParams::default()
+    };
+    set!(
+        p,
+        t,
+        layers,
+        patches_per_layer,
+        segments,
+        length,
+        inner_length,
+        width,
+        overlap,
+        tip_width,
+        layer_spacing,
+        waviness,
+        seed
+    );
+    p
+}
+
+fn card_params(t: &CardTable) -> CardParams {
+    let mut p = CardParams::default();
+    set!(
+        p,
+        t,
+        cards,
+        segments,
+        width_scale,
+        min_width,
+        iterations,
+        seed
+    );
+    p
+}
+
+/// AO bake settings of `[patches.ao]` (the bake switch is read by [`load_patches`]).
+fn ao_params(t: &AoTable) -> Result<AoParams, RenderError> {
+    let mut p = AoParams::default();
+    set!(p, t, rays, max_distance, seed, patch_opacity);
+    if let Some(s) = &t.sides {
+        p.sides = parse_sides(s)?;
+    }
+    p.validate()
+        .map_err(|e| RenderError::Invalid(format!("patches.ao: {e}")))?;
+    Ok(p)
+}
+
+/// `"max"`, `"mean"` or `"front"` ([`AoSides`]).
+pub fn parse_sides(s: &str) -> Result<AoSides, RenderError> {
+    match s {
+        "max" => Ok(AoSides::Max),
+        "mean" => Ok(AoSides::Mean),
+        "front" => Ok(AoSides::Front),
+        _ => Err(RenderError::Invalid(format!(
+            "unknown AO sides `{s}` (expected max, mean or front)"
+        ))),
+    }
+}
+
+/// The head mesh as `tress_hair`'s triangle mesh (for the AO bake).
+pub fn head_tri_mesh(head: &HeadMesh) -> TriMesh {
+    TriMesh {
+        positions: head.positions.clone(),
+        normals: head.normals.clone(),
+        indices: head.indices.clone(),
+    }
+}
+
+fn hair_error(e: tress_hair::HairError) -> RenderError {
+    RenderError::Invalid(e.to_string())
+}
+
+/// Build the scene's patch mesh (generate, read or convert; bake AO) and textures. `prepared` is
+/// the scene loaded with [`PreparedScene::load`] (its hair and head are used, not reloaded).
+pub fn load_patches(scene: &Scene, prepared: &PreparedScene) -> Result<PatchScene, RenderError> {
+    let t = table(scene)?;
+    let settings = patch_settings(scene)?;
+    let source = patch_source(scene)?;
+    let head_center = match scene.head_source() {
+        HeadSource::Generated(h) => Some(h.center),
+        _ => prepared.head.as_ref().map(|h| h.bounding_sphere().0),
+    };
+    let mut mesh = match &source {
+        PatchSource::Obj(path) => PatchMesh::read_obj(path).map_err(hair_error)?,
+        PatchSource::Generated => {
+            let head = match scene.head_source() {
+                HeadSource::Generated(h) => h,
+                _ => Head::default(),
+            };
+            generate_patches(&generator_params(&t.generator, head)).map_err(hair_error)?
+        }
+        PatchSource::Strands => {
+            let hair: &HairAsset = prepared.hair.as_ref().ok_or_else(|| {
+                RenderError::Invalid(
+                    "patches.source = \"strands\" but the scene has no hair".into(),
+                )
+            })?;
+            PatchMesh::from_strands(hair, &card_params(&t.cards)).map_err(hair_error)?
+        }
+    };
+    let bake = t.ao.bake.unwrap_or(!matches!(source, PatchSource::Obj(_)));
+    let ao = ao_params(&t.ao)?;
+    let ao_bake_seconds = if bake {
+        let head = prepared.head.as_ref().map(head_tri_mesh);
+        let start = Instant::now();
+        bake_ao(&mut mesh, head.as_ref(), &ao).map_err(hair_error)?;
+        Some(start.elapsed().as_secs_f64())
+    } else {
+        None
+    };
+    let mut textures = HairTextures::generate(&settings.textures)
+        .map_err(|e| RenderError::Invalid(format!("patches.textures: {e}")))?;
+    let mut textures_from_files = false;
+    let files: [(TextureSlot, &Option<PathBuf>); 4] = [
+        (TextureSlot::Base, &t.textures.base_png),
+        (TextureSlot::Alpha, &t.textures.alpha_png),
+        (TextureSlot::SpecShift, &t.textures.spec_shift_png),
+        (TextureSlot::SpecNoise, &t.textures.spec_noise_png),
+    ];
+    for (slot, path) in files {
+        if let Some(p) = path {
+            *slot.of_mut(&mut textures) = load_texture_png(scene.resolve(p), slot)?;
+            textures_from_files = true;
+        }
+    }
+    let sort_center = head_center.unwrap_or_else(|| super::default_sort_center(&mesh));
+    Ok(PatchScene {
+        mesh,
+        textures,
+        textures_from_files,
+        sort_center,
+        source,
+        ao_bake_seconds,
+    })
+}
+
+/// Whether a path names a patch OBJ file (by extension).
+pub fn is_obj(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("obj"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn settings_take_material_then_table_and_reject_unknown_keys() {
+        let text = "[[hair]]\ngenerator = { style = \"straight\", strands = 10 }\n\
+                    [hair.material]\nprimary_shift = -0.2\nbase_color = [0.5, 0.4, 0.3]\n\
+                    [patches]\nsecondary_shift = 0.3\nscheme = \"3-pass\"\n\
+                    textures = { seed = 7 }\n";
+        let mut scene = Scene::from_str(text, ".").unwrap();
+        let s = patch_settings(&scene).unwrap();
+        assert_eq!(s.lighting.primary_shift, -0.2);
+        assert_eq!(s.lighting.secondary_shift, 0.3);
+        assert_eq!(s.scheme, RenderScheme::ThreePass);
+        assert_eq!(s.textures.seed, 7);
+        assert_eq!(s.textures.base_color, Vec3::new(0.5, 0.4, 0.3));
+        scene.apply_override("patches.primary_shift=0.05").unwrap();
+        scene.apply_override("patches.alpha_ref=0.5").unwrap();
+        let s = patch_settings(&scene).unwrap();
+        assert_eq!((s.lighting.primary_shift, s.alpha_ref), (0.05, 0.5));
+
+        let bad = Scene::from_str("\n[patches]\nshift = 1.0\n", ".").unwrap();
+        let e = patch_settings(&bad).unwrap_err().to_string();
+        assert!(e.contains("shift") && e.contains("line 3"), "{e}");
+        let bad = Scene::from_str("[patches]\nscheme = \"5-pass\"\n", ".").unwrap();
+        assert!(patch_settings(&bad).is_err());
+        let bad = Scene::from_str("[patches]\nalpha_ref = 2.0\n", ".").unwrap();
+        assert!(
+            patch_settings(&bad)
+                .unwrap_err()
+                .to_string()
+                .contains("alpha_ref")
+        );
+    }
+
+    #[test]
+    fn sources_follow_the_table_and_the_scene() {
+        let s = Scene::from_str("", ".").unwrap();
+        assert_eq!(patch_source(&s).unwrap(), PatchSource::Generated);
+        let s = Scene::from_str("[patches]\nobj = \"cards.obj\"\n", "dir").unwrap();
+        assert_eq!(
+            patch_source(&s).unwrap(),
+            PatchSource::Obj(Path::new("dir").join("cards.obj"))
+        );
+        let hair = "[[hair]]\ngenerator = { style = \"straight\", strands = 10 }\n";
+        let s = Scene::from_str(hair, ".").unwrap();
+        assert_eq!(patch_source(&s).unwrap(), PatchSource::Strands);
+        let s =
+            Scene::from_str(&format!("{hair}[patches]\nsource = \"generated\"\n"), ".").unwrap();
+        assert_eq!(patch_source(&s).unwrap(), PatchSource::Generated);
+        for bad in ["source = \"obj\"", "source = \"strands\"", "source = \"x\""] {
+            let s = Scene::from_str(&format!("[patches]\n{bad}\n"), ".").unwrap();
+            assert!(patch_source(&s).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn generated_source_loads_with_ao_and_sorts_around_the_head() {
+        let text = "[patches]\ngenerator = { layers = 2, patches_per_layer = 8, segments = 3 }\n\
+                    ao = { rays = 4 }\ntextures = { width = 16, height = 16, strands = 4 }\n";
+        let scene = Scene::from_str(text, ".").unwrap();
+        let prepared = PreparedScene::load(&scene).unwrap();
+        let p = load_patches(&scene, &prepared).unwrap();
+        assert_eq!(p.source, PatchSource::Generated);
+        assert_eq!(p.mesh.component_count(), 16);
+        assert!(p.ao_bake_seconds.is_some());
+        assert!(p.mesh.ao().iter().any(|&a| a < 1.0));
+        let HeadSource::Generated(head) = scene.head_source() else {
+            panic!("generated head expected");
+        };
+        assert_eq!(p.sort_center, head.center);
+        assert_eq!(p.textures.base.width, 16);
+        assert!(!p.textures_from_files);
+    }
+}

@@ -1,0 +1,311 @@
+//! GPU tests of the patch frame's behaviour: compositing of opaque and transparent parts, the
+//! back-faces-first order, the front-face Z writes, the head drawn first, per-pass timestamps,
+//! and the equivalence of the two schemes. Expected pixels are computed by hand from the
+//! slides' scheme on scenes of full-screen quads under an orthographic camera.
+
+mod common;
+
+use glam::{Vec2, Vec3};
+use tress_hair::patches::{HairTextures, PatchMesh, Texture};
+use tress_render::gpu::{linear_to_srgb, srgb_to_linear};
+use tress_render::patches::{PatchFrameInputs, PatchRenderer, PatchSettings, RenderScheme};
+use tress_render::{
+    COLOR_FORMAT, HeadGeometry, HeadMesh, LinearImage, OffscreenTargets, TargetFormats,
+    read_texture,
+};
+
+const SIZE: u32 = 32;
+const BASE: Vec3 = Vec3::new(0.8, 0.6, 0.4);
+const BG: [f64; 3] = [0.1, 0.2, 0.3];
+/// Alpha of the right half of the alpha texture (the left half is opaque).
+const ALPHA_T: f32 = 0.25;
+const TOL: f32 = 4e-3;
+
+/// Full-screen quads, one per `(z, front, ao)` in index-buffer order: at depth `z`, facing the
+/// camera (`front`) or away from it, with AO `ao`. `u` runs along x, `v` along y, the tangent
+/// is +y.
+fn mesh(quads: &[(f32, bool, f32)]) -> PatchMesh {
+    let (mut p, mut n, mut uv, mut ao, mut idx) = (vec![], vec![], vec![], vec![], vec![]);
+    for &(z, front, a) in quads {
+        let base = p.len() as u32;
+        p.extend(
+            [(-1.5, -1.5), (1.5, -1.5), (1.5, 1.5), (-1.5, 1.5)].map(|(x, y)| Vec3::new(x, y, z)),
+        );
+        uv.extend([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(|(u, v)| Vec2::new(u, v)));
+        let (normal, tri): (Vec3, [u32; 6]) = if front {
+            (Vec3::Z, [0, 1, 2, 0, 2, 3])
+        } else {
+            (Vec3::NEG_Z, [0, 2, 1, 0, 3, 2])
+        };
+        n.extend([normal; 4]);
+        ao.extend([a; 4]);
+        idx.extend(tri.iter().map(|i| i + base));
+    }
+    let t = vec![Vec3::Y; p.len()];
+    PatchMesh::new(p, n, t, uv, idx)
+        .and_then(|m| m.with_ao(ao))
+        .expect("valid mesh")
+}
+
+fn constant(w: u32, channels: u32, f: impl Fn(u32) -> Vec<f32>) -> Texture {
+    let data = (0..w).flat_map(&f).collect();
+    Texture {
+        width: w,
+        height: 1,
+        channels,
+        data,
+    }
+}
+
+/// Base `BASE`, alpha 1 on the left half and `ALPHA_T` on the right, shift 0.5, noise 1.
+fn textures() -> HairTextures {
+    HairTextures {
+        base: constant(16, 3, |_| BASE.to_array().to_vec()),
+        alpha: constant(16, 1, |x| vec![if x < 8 { 1.0 } else { ALPHA_T }]),
+        spec_shift: constant(16, 1, |_| vec![0.5]),
+        spec_noise: constant(16, 1, |_| vec![1.0]),
+    }
+}
+
+/// The base color after the 8-bit sRGB texture round trip.
+fn base_q() -> Vec3 {
+    let q = |c: f32| srgb_to_linear((linear_to_srgb(c) * 255.0).round() / 255.0);
+    Vec3::new(q(BASE.x), q(BASE.y), q(BASE.z))
+}
+
+struct Frame {
+    image: LinearImage,
+    stats: tress_render::PatchFrameStats,
+}
+
+/// Render `mesh` (sorted around `sort_center`) with ambient 1 and no lights, so a fragment's
+/// straight color is `base · ao`.
+fn render(
+    scheme: RenderScheme,
+    mesh: &PatchMesh,
+    sort_center: Vec3,
+    head: Option<&HeadMesh>,
+) -> Frame {
+    let ctx = common::gpu().expect("checked by the caller");
+    let settings = PatchSettings {
+        scheme,
+        mipmaps: false,
+        ..Default::default()
+    };
+    let mut r = PatchRenderer::with_textures(&ctx, TargetFormats::default(), settings, textures())
+        .expect("renderer");
+    let geometry = r.upload_patches(&ctx, mesh, sort_center).expect("upload");
+    let head = head.map(|h| HeadGeometry::new(&ctx, h).expect("head"));
+    let t = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
+    let inputs = PatchFrameInputs {
+        camera: common::ortho_camera(SIZE),
+        lights: &[],
+        ambient: Vec3::ONE,
+        head_color: Vec3::new(0.0, 1.0, 0.0),
+        patches: Some(&geometry),
+        head: head.as_ref(),
+        clear: Some(wgpu::Color {
+            r: BG[0],
+            g: BG[1],
+            b: BG[2],
+            a: 1.0,
+        }),
+    };
+    let stats = r.render(&ctx, &t.targets(), &inputs).expect("frame");
+    let image = read_texture(&ctx, &t.color).expect("readback");
+    Frame { image, stats }
+}
+
+/// `src` (straight, alpha `a`) over a premultiplied opaque `dst`.
+fn over(src: Vec3, a: f32, dst: Vec3) -> Vec3 {
+    src * a + dst * (1.0 - a)
+}
+
+fn bg() -> Vec3 {
+    Vec3::new(BG[0] as f32, BG[1] as f32, BG[2] as f32)
+}
+
+#[track_caller]
+fn assert_pixel(img: &LinearImage, x: u32, y: u32, expect: Vec3, what: &str) {
+    let p = img.get(x, y).expect("inside");
+    let got = Vec3::new(p[0], p[1], p[2]);
+    assert!(
+        (got - expect).abs().max_element() < TOL && (p[3] - 1.0).abs() < TOL,
+        "{what}: pixel ({x}, {y}) is {p:?}, expected {expect}"
+    );
+}
+
+/// Columns in the opaque (left) and transparent (right) halves of the texture.
+const OPAQUE_X: u32 = SIZE / 4;
+const TRANSPARENT_X: u32 = 3 * SIZE / 4;
+
+#[test]
+fn opaque_parts_hide_and_transparent_parts_blend_in_both_schemes() {
+    if common::gpu().is_none() {
+        return;
+    }
+    // Inner quad (z = 0, AO 0.25) under an outer quad (z = 0.5, AO 1), sorted inside out from
+    // a centre behind them.
+    let m = mesh(&[(0.0, true, 0.25), (0.5, true, 1.0)]);
+    let b = base_q();
+    for scheme in [RenderScheme::FourPass, RenderScheme::ThreePass] {
+        let f = render(scheme, &m, Vec3::new(0.0, 0.0, -5.0), None);
+        let y = SIZE / 2;
+        // Opaque: only the nearest opaque fragment's color, once.
+        assert_pixel(&f.image, OPAQUE_X, y, b, scheme.name());
+        // Transparent: inner over the background, then outer over that.
+        let inner = over(b * 0.25, ALPHA_T, bg());
+        assert_pixel(
+            &f.image,
+            TRANSPARENT_X,
+            y,
+            over(b, ALPHA_T, inner),
+            scheme.name(),
+        );
+        assert_eq!(f.stats.triangles, 4);
+        assert_eq!(f.stats.scheme, scheme);
+    }
+}
+
+#[test]
+fn back_faces_are_blended_before_front_faces() {
+    if common::gpu().is_none() {
+        return;
+    }
+    // A back-facing quad in front (z = 0.5, AO 1) and a front-facing one behind it (z = 0,
+    // AO 0.25); the front-facing one comes first in the sorted order. Pass "back" draws the
+    // back face first without Z writes, then pass "front" blends the farther front face over it.
+    let m = mesh(&[(0.0, true, 0.25), (0.5, false, 1.0)]);
+    let b = base_q();
+    for scheme in [RenderScheme::FourPass, RenderScheme::ThreePass] {
+        let f = render(scheme, &m, Vec3::new(0.0, 0.0, -5.0), None);
+        let back_first = over(b, ALPHA_T, bg());
+        let expect = over(b * 0.25, ALPHA_T, back_first);
+        assert_pixel(&f.image, TRANSPARENT_X, SIZE / 2, expect, scheme.name());
+        // Opaque parts resolve by depth whatever the facing: the nearer back face wins.
+        assert_pixel(&f.image, OPAQUE_X, SIZE / 2, b, scheme.name());
+    }
+}
+
+#[test]
+fn transparent_front_faces_write_depth() {
+    if common::gpu().is_none() {
+        return;
+    }
+    // Sorted around a centre in front of the quads, the nearer quad (z = 0.5, AO 1) is drawn
+    // first; its transparent part writes depth in the last pass, so the farther quad drawn
+    // after it (z = 0, AO 0.25) is rejected there.
+    let m = mesh(&[(0.0, true, 0.25), (0.5, true, 1.0)]);
+    let b = base_q();
+    for scheme in [RenderScheme::FourPass, RenderScheme::ThreePass] {
+        let f = render(scheme, &m, Vec3::new(0.0, 0.0, 5.0), None);
+        assert_pixel(
+            &f.image,
+            TRANSPARENT_X,
+            SIZE / 2,
+            over(b, ALPHA_T, bg()),
+            scheme.name(),
+        );
+    }
+}
+
+#[test]
+fn the_head_is_drawn_first_and_hides_the_hair_behind_it() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let head = HeadMesh::uv_sphere(Vec3::new(0.0, 0.0, 1.0), 0.5, 16, 24);
+    let m = mesh(&[(0.0, true, 1.0)]);
+    for scheme in [RenderScheme::FourPass, RenderScheme::ThreePass] {
+        let f = render(scheme, &m, Vec3::new(0.0, 0.0, -5.0), Some(&head));
+        // Centre: the head (ambient 1, green); left: the opaque hair.
+        assert_pixel(&f.image, SIZE / 2, SIZE / 2, Vec3::Y, scheme.name());
+        assert_pixel(&f.image, 2, SIZE / 2, base_q(), scheme.name());
+    }
+}
+
+#[test]
+fn every_pass_of_the_scheme_is_timed() {
+    let Some(ctx) = common::gpu() else {
+        return;
+    };
+    if !ctx.caps.timestamps {
+        eprintln!("the adapter has no timestamp queries; nothing to check");
+        return;
+    }
+    let m = mesh(&[(0.0, true, 1.0)]);
+    for scheme in [RenderScheme::FourPass, RenderScheme::ThreePass] {
+        let f = render(scheme, &m, Vec3::ZERO, None);
+        let Some(tress_render::Timings::Passes(p)) = &f.stats.timings else {
+            panic!("{}: no timings: {:?}", scheme.name(), f.stats.timings);
+        };
+        let names: Vec<&str> = p.iter().map(|t| t.name).collect();
+        let mut expect = vec!["head"];
+        expect.extend(scheme.passes().iter().map(|p| p.name));
+        assert_eq!(names, expect, "{}", scheme.name());
+        assert!(p.iter().all(|t| t.ms >= 0.0 && t.ms.is_finite()));
+        assert_eq!(f.stats.timings_frame, Some(f.stats.frame));
+    }
+}
+
+#[test]
+fn bad_inputs_are_errors_not_panics() {
+    let Some(ctx) = common::gpu() else {
+        return;
+    };
+    let mut r = PatchRenderer::with_textures(
+        &ctx,
+        TargetFormats::default(),
+        PatchSettings::default(),
+        textures(),
+    )
+    .expect("renderer");
+    let t = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
+    let inputs = PatchFrameInputs {
+        camera: common::ortho_camera(SIZE + 1),
+        lights: &[],
+        ambient: Vec3::ZERO,
+        head_color: Vec3::ONE,
+        patches: None,
+        head: None,
+        clear: None,
+    };
+    assert!(r.render(&ctx, &t.targets(), &inputs).is_err());
+    let lights = [tress_render::DirectionalLight::default(); 5];
+    let inputs = PatchFrameInputs {
+        camera: common::ortho_camera(SIZE),
+        lights: &lights,
+        ..inputs
+    };
+    assert!(r.render(&ctx, &t.targets(), &inputs).is_err());
+    let inputs = PatchFrameInputs {
+        lights: &[],
+        ambient: Vec3::NAN,
+        ..inputs
+    };
+    assert!(r.render(&ctx, &t.targets(), &inputs).is_err());
+    // A texture with the wrong channel count is refused.
+    let mut bad = textures();
+    bad.alpha.channels = 3;
+    assert!(r.set_textures(&ctx, bad).is_err());
+    let bad_settings = PatchSettings {
+        alpha_ref: 2.0,
+        ..Default::default()
+    };
+    assert!(r.set_settings(&ctx, bad_settings).is_err());
+    // Switching the scheme rebuilds the pipelines and renders (an empty frame here).
+    let s = PatchSettings {
+        scheme: RenderScheme::ThreePass,
+        ..r.settings().clone()
+    };
+    r.set_settings(&ctx, s).expect("3-pass");
+    let inputs = PatchFrameInputs {
+        ambient: Vec3::ZERO,
+        ..inputs
+    };
+    let stats = r.render(&ctx, &t.targets(), &inputs).expect("empty frame");
+    assert_eq!(
+        (stats.triangles, stats.scheme),
+        (0, RenderScheme::ThreePass)
+    );
+}
