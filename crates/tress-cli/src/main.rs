@@ -28,6 +28,8 @@ enum Command {
     Convert(cmd::convert::Args),
     /// Render a scene (`.toml`), hair files, or the built-in demo to PNG or EXR.
     Render(cmd::render::Args),
+    /// Bake the SATF technique's HRIR database (Xu et al. 2006), or check one with --check.
+    SatfBake(cmd::satf_bake::Args),
 }
 
 fn main() -> ExitCode {
@@ -37,6 +39,7 @@ fn main() -> ExitCode {
         Command::Generate(a) => cmd::generate::run(a),
         Command::Convert(a) => cmd::convert::run(a),
         Command::Render(a) => cmd::render::run(a),
+        Command::SatfBake(a) => cmd::satf_bake::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

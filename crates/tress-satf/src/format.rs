@@ -269,7 +269,13 @@ impl Database {
         expected: &BakeSettings,
     ) -> Result<Database, DatabaseError> {
         let db = Database::from_bytes(bytes)?;
-        let ours = db.settings.fields();
+        db.check_settings(expected)?;
+        Ok(db)
+    }
+
+    /// `Ok` when the database was baked with `expected`, else the first setting that differs.
+    fn check_settings(&self, expected: &BakeSettings) -> Result<(), DatabaseError> {
+        let ours = self.settings.fields();
         for ((field, found), (_, want)) in ours.into_iter().zip(expected.fields()) {
             if found != want {
                 return Err(DatabaseError::SettingsMismatch {
@@ -279,7 +285,7 @@ impl Database {
                 });
             }
         }
-        Ok(db)
+        Ok(())
     }
 
     /// Write the database file. Errors name the file.
@@ -305,6 +311,15 @@ impl Database {
         }
         let bytes = std::fs::read(path).map_err(io)?;
         Database::from_bytes(&bytes).map_err(|e| SatfError::from(e).in_file(path))
+    }
+
+    /// [`Database::load`] of a file that must have been baked with `expected` settings
+    /// ([`Database::from_bytes_expecting`]). Errors name the file.
+    pub fn load_expecting(path: &Path, expected: &BakeSettings) -> Result<Database, SatfError> {
+        let db = Database::load(path)?;
+        db.check_settings(expected)
+            .map_err(|e| SatfError::from(e).in_file(path))?;
+        Ok(db)
     }
 }
 
@@ -446,6 +461,18 @@ mod tests {
         let db = small();
         db.save(&path).unwrap();
         assert_eq!(Database::load(&path).unwrap(), db);
+        assert_eq!(Database::load_expecting(&path, db.settings()).unwrap(), db);
+        let other = BakeSettings {
+            samples: 7,
+            ..*db.settings()
+        };
+        let msg = Database::load_expecting(&path, &other)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            msg.contains("db.satfdb") && msg.contains("samples = 6") && msg.contains("re-bake"),
+            "{msg}"
+        );
         std::fs::write(&path, b"garbage").unwrap();
         let msg = Database::load(&path).unwrap_err().to_string();
         assert!(msg.contains("db.satfdb") && msg.contains("magic"), "{msg}");

@@ -4,3 +4,4 @@ pub(crate) mod convert;
 pub(crate) mod generate;
 pub(crate) mod info;
 pub(crate) mod render;
+pub(crate) mod satf_bake;
