@@ -26,6 +26,10 @@ enum Command {
     Generate(cmd::generate::Args),
     /// Convert between hair formats, merging inputs and optionally adding follow hairs.
     Convert(cmd::convert::Args),
+    /// Hair cards from strands: neighbouring strands grouped into ribbons, written as OBJ.
+    Cards(cmd::cards::Args),
+    /// Bake per-vertex ambient occlusion into a patch OBJ (or the generated patch head).
+    BakeAo(cmd::bake_ao::Args),
     /// Render a scene (`.toml`), hair files, or the built-in demo to PNG or EXR.
     Render(cmd::render::Args),
     /// Bake the SATF technique's HRIR database (Xu et al. 2006), or check one with --check.
@@ -38,6 +42,8 @@ fn main() -> ExitCode {
         Command::Info(a) => cmd::info::run(a),
         Command::Generate(a) => cmd::generate::run(a),
         Command::Convert(a) => cmd::convert::run(a),
+        Command::Cards(a) => cmd::cards::run(a),
+        Command::BakeAo(a) => cmd::bake_ao::run(a),
         Command::Render(a) => cmd::render::run(a),
         Command::SatfBake(a) => cmd::satf_bake::run(a),
     };

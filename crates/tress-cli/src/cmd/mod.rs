@@ -1,5 +1,7 @@
 //! One module per subcommand.
 
+pub(crate) mod bake_ao;
+pub(crate) mod cards;
 pub(crate) mod convert;
 pub(crate) mod generate;
 pub(crate) mod info;

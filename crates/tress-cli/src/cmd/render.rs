@@ -6,10 +6,12 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use glam::Vec3;
 use serde::Serialize;
-use tress_render::scene_setup::{PreparedScene, frame_bounds};
+use tress_render::patches::scene::{PatchScene, is_obj};
+use tress_render::scene_setup::{PreparedScene, frame_bounds, load_patches};
 use tress_render::{
-    COLOR_FORMAT, FrameInputs, FrameStats, GpuContext, HeadGeometry, OffscreenTargets, Renderer,
-    TargetFormats, Timings, read_texture, wgpu,
+    COLOR_FORMAT, FrameInputs, FrameStats, GpuContext, HeadGeometry, OffscreenTargets,
+    PatchFrameInputs, PatchFrameStats, PatchRenderer, Renderer, TargetFormats, Timings,
+    read_texture, wgpu,
 };
 use tress_scene::{HairSpec, Scene};
 
@@ -20,13 +22,14 @@ use crate::progress;
 pub(crate) const DEMO_SCENE: &str = include_str!("../../../../scenes/demo.toml");
 
 /// Techniques `render` can run today.
-const IMPLEMENTED: &[&str] = &["strands"];
+const IMPLEMENTED: &[&str] = &["strands", "patches"];
 
 /// Arguments of `tress render`.
 #[derive(clap::Args, Debug)]
 pub(crate) struct Args {
     /// A scene file (`.toml`), or hair files (`.hair`, `.tfx`; merged, framed automatically,
-    /// default lights, no head). Nothing renders the built-in demo scene.
+    /// default lights, no head), or one hair-card OBJ file (technique `patches`). Nothing renders
+    /// the built-in demo scene.
     inputs: Vec<PathBuf>,
     /// Output image: `.png` (8-bit sRGB) or `.exr` (linear float).
     #[arg(short, long)]
@@ -61,6 +64,18 @@ struct Report {
     frame_gpu_ms: Option<f64>,
     ppll: Ppll,
     output: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    patches: Option<PatchReport>,
+}
+
+/// The `patches` technique's part of the report.
+#[derive(Serialize)]
+struct PatchReport {
+    scheme: String,
+    source: String,
+    triangles: u32,
+    components: usize,
+    ao_bake_s: Option<f64>,
 }
 
 #[derive(Serialize)]
@@ -94,6 +109,22 @@ pub(crate) fn base_scene(inputs: &[PathBuf]) -> Result<(Scene, bool)> {
         [one] if is_scene(one) => Ok((Scene::from_path(one)?, false)),
         many if many.iter().any(is_scene) => {
             bail!("give either one scene file or hair files, not both")
+        }
+        [one] if is_obj(one) => {
+            let mut scene =
+                Scene::from_str("technique = \"patches\"\n[head]\ngenerated = false\n", ".")?;
+            // A TOML basic string: backslashes and quotes escaped.
+            let path = one
+                .to_str()
+                .filter(|p| !p.chars().any(char::is_control))
+                .with_context(|| format!("{}: unusable file name", one.display()))?
+                .replace('\\', "\\\\")
+                .replace('"', "\\\"");
+            scene.apply_override(&format!("patches.obj=\"{path}\""))?;
+            Ok((scene, true))
+        }
+        many if many.iter().any(|p| is_obj(p)) => {
+            bail!("give one hair-card OBJ file alone")
         }
         files => {
             let mut scene = Scene::from_str("[head]\ngenerated = false\n", ".")?;
@@ -154,9 +185,25 @@ pub(crate) fn run(args: Args) -> Result<()> {
         // The command line's --set still wins over the automatic framing.
         scene.apply_overrides(&args.sets)?;
     }
+    let patches = if scene.technique == "patches" {
+        let pb = progress::spinner("building patches");
+        let p = load_patches(&scene, &prepared);
+        pb.finish_and_clear();
+        let p = p?;
+        if let (true, None, Some(b)) = (auto_frame, &prepared.hair, p.mesh.bounds()) {
+            frame_bounds(&mut scene, b.min, b.max);
+            scene.apply_overrides(&args.sets)?;
+        }
+        Some(p)
+    } else {
+        None
+    };
     let size = [scene.output.width, scene.output.height];
 
     let ctx = GpuContext::headless()?;
+    if let Some(p) = &patches {
+        return run_patches(&ctx, &args, &scene, &prepared, p, size, ext);
+    }
     let pb = progress::spinner(format!(
         "rendering {}x{} on {}",
         size[0], size[1], ctx.adapter_info.name
@@ -288,7 +335,137 @@ fn report(
             bytes: stats.ppll_bytes,
         },
         output: output.display().to_string(),
+        patches: None,
     }
+}
+
+/// `run` for the `patches` technique: render, write, report.
+fn run_patches(
+    ctx: &GpuContext,
+    args: &Args,
+    scene: &Scene,
+    prepared: &PreparedScene,
+    patches: &PatchScene,
+    size: [u32; 2],
+    ext: OutputKind,
+) -> Result<()> {
+    let pb = progress::spinner(format!(
+        "rendering {}x{} on {}",
+        size[0], size[1], ctx.adapter_info.name
+    ));
+    let result = render_patch_frame(ctx, scene, prepared, patches, size);
+    pb.finish_and_clear();
+    let (image, stats) = result?;
+    match ext {
+        OutputKind::Png => image.save_png(&args.output)?,
+        OutputKind::Exr => image.save_exr(&args.output)?,
+    }
+    let passes: Vec<Pass> = match &stats.timings {
+        Some(Timings::Passes(p)) => p
+            .iter()
+            .map(|t| Pass {
+                name: t.name.to_string(),
+                gpu_ms: t.ms,
+            })
+            .collect(),
+        _ => Vec::new(),
+    };
+    let report = Report {
+        technique: scene.technique.clone(),
+        width: size[0],
+        height: size[1],
+        strands: prepared.hair.as_ref().map_or(0, |h| h.strand_count()),
+        segments: prepared.hair.as_ref().map_or(0, |h| h.segment_count()),
+        adapter: Adapter {
+            name: ctx.adapter_info.name.clone(),
+            backend: format!("{:?}", ctx.adapter_info.backend).to_lowercase(),
+        },
+        frame_gpu_ms: (!passes.is_empty()).then(|| passes.iter().map(|p| p.gpu_ms).sum()),
+        passes,
+        ppll: Ppll {
+            capacity: 0,
+            used: 0,
+            dropped: 0,
+            bytes: 0,
+        },
+        output: args.output.display().to_string(),
+        patches: Some(PatchReport {
+            scheme: stats.scheme.name().to_string(),
+            source: patches.source.name().to_string(),
+            triangles: stats.triangles,
+            components: patches.mesh.component_count(),
+            ao_bake_s: patches.ao_bake_seconds,
+        }),
+    };
+    if args.json {
+        println!("{}", serde_json::to_string(&report)?);
+        return Ok(());
+    }
+    println!(
+        "wrote {} ({}x{}, {} triangles in {} patches from {}, {}) on {} ({})",
+        report.output,
+        size[0],
+        size[1],
+        stats.triangles,
+        patches.mesh.component_count(),
+        patches.source.name(),
+        stats.scheme,
+        report.adapter.name,
+        report.adapter.backend
+    );
+    match &stats.timings {
+        Some(t @ Timings::Passes(_)) => {
+            println!("{t}; frame {:.3} ms", t.total_ms().unwrap_or(0.0))
+        }
+        _ => println!("GPU timestamps: not supported by this device"),
+    }
+    Ok(())
+}
+
+/// Render one frame of a prepared scene's patches offscreen and read it back.
+pub(crate) fn render_patch_frame(
+    ctx: &GpuContext,
+    scene: &Scene,
+    prepared: &PreparedScene,
+    patches: &PatchScene,
+    size: [u32; 2],
+) -> Result<(tress_render::LinearImage, PatchFrameStats)> {
+    let settings = tress_render::scene_setup::patch_settings(scene)?;
+    let mut renderer = if patches.textures_from_files {
+        PatchRenderer::with_textures(
+            ctx,
+            TargetFormats::default(),
+            settings,
+            patches.textures.clone(),
+        )?
+    } else {
+        PatchRenderer::new(ctx, TargetFormats::default(), settings)?
+    };
+    let targets = OffscreenTargets::new(ctx, size, COLOR_FORMAT)?;
+    let geometry = renderer.upload_patches(ctx, &patches.mesh, patches.sort_center)?;
+    let head = prepared
+        .head
+        .as_ref()
+        .map(|m| HeadGeometry::new(ctx, m))
+        .transpose()?;
+    let bg = prepared.background;
+    let inputs = PatchFrameInputs {
+        camera: PreparedScene::camera(scene, size),
+        lights: &prepared.lights,
+        ambient: Vec3::splat(AMBIENT),
+        head_color: prepared.material.head_color,
+        patches: Some(&geometry),
+        head: head.as_ref(),
+        clear: Some(wgpu::Color {
+            r: bg.x.into(),
+            g: bg.y.into(),
+            b: bg.z.into(),
+            a: 1.0,
+        }),
+    };
+    let stats = renderer.render(ctx, &targets.targets(), &inputs)?;
+    let image = read_texture(ctx, &targets.color).context("reading the frame back")?;
+    Ok((image, stats))
 }
 
 enum OutputKind {
