@@ -118,15 +118,13 @@ impl Bvh {
     /// Build over primitives with the given boxes (non-finite boxes are treated as empty and
     /// never visited).
     pub fn build(bounds: &[Bounds]) -> Bvh {
-        let mut order: Vec<u32> = (0..bounds.len() as u32).collect();
         if bounds.is_empty() {
             return Bvh {
                 nodes: Vec::new(),
-                order,
+                order: Vec::new(),
             };
         }
-        let centroids: Vec<Vec3> = bounds.iter().map(Bounds::center).collect();
-        let nodes = build_node(bounds, &centroids, &mut order, 0, 0);
+        let (nodes, order) = build_all(bounds);
         Bvh { nodes, order }
     }
 
@@ -274,114 +272,141 @@ impl Bvh {
     }
 }
 
-/// Build the subtree over `order` (which starts at `offset` in the final order) and return its
-/// nodes, root first.
-fn build_node(
-    bounds: &[Bounds],
-    centroids: &[Vec3],
-    order: &mut [u32],
-    offset: usize,
-    depth: usize,
-) -> Vec<Node> {
-    let n = order.len();
-    let node_bounds = order
-        .iter()
-        .map(|&i| bounds[i as usize])
-        .filter(|b| b.min.is_finite() && b.max.is_finite())
-        .fold(Bounds::EMPTY, Bounds::union);
-    let leaf = |order_len: usize| {
-        vec![Node {
-            bounds: node_bounds,
-            index: offset as u32,
-            count: order_len as u32,
-        }]
-    };
-    if n <= 1 {
-        return leaf(n);
-    }
-    let centroid_box = order
-        .iter()
-        .map(|&i| centroids[i as usize])
-        .filter(|c| c.is_finite())
-        .fold(Bounds::EMPTY, Bounds::grow);
-    let extent = centroid_box.max - centroid_box.min;
-    let mid = if depth < SAH_DEPTH && extent.max_element() > 0.0 {
-        match sah_split(bounds, centroids, order, &centroid_box, &node_bounds) {
-            Some(mid) => mid,
-            None if n <= MAX_LEAF => return leaf(n),
-            None => median_split(centroids, order, &centroid_box),
-        }
-    } else if n <= MAX_LEAF {
-        return leaf(n);
-    } else {
-        median_split(centroids, order, &centroid_box)
-    };
-    let (left, right) = order.split_at_mut(mid);
-    let (l_nodes, r_nodes) = if n > PARALLEL_MIN {
-        rayon::join(
-            || build_node(bounds, centroids, left, offset, depth + 1),
-            || build_node(bounds, centroids, right, offset + mid, depth + 1),
-        )
-    } else {
-        (
-            build_node(bounds, centroids, left, offset, depth + 1),
-            build_node(bounds, centroids, right, offset + mid, depth + 1),
-        )
-    };
-    let mut nodes = Vec::with_capacity(1 + l_nodes.len() + r_nodes.len());
-    nodes.push(Node {
-        bounds: node_bounds,
-        index: (1 + l_nodes.len()) as u32,
-        count: 0,
-    });
-    let base = 1u32;
-    nodes.extend(l_nodes.into_iter().map(|mut nd| {
-        if nd.count == 0 {
-            nd.index += base;
-        }
-        nd
-    }));
-    let base = nodes.len() as u32;
-    nodes.extend(r_nodes.into_iter().map(|mut nd| {
-        if nd.count == 0 {
-            nd.index += base;
-        }
-        nd
-    }));
-    nodes
+/// A primitive during the build: its box and its index.
+#[derive(Clone, Copy, Debug)]
+struct Item {
+    bounds: Bounds,
+    index: u32,
 }
 
-/// Partition `order` at the cheapest SAH bin boundary; returns the split position, or `None`
-/// when a leaf is cheaper (only allowed for small nodes, see the caller) or no boundary
-/// separates anything.
-fn sah_split(
-    bounds: &[Bounds],
-    centroids: &[Vec3],
-    order: &mut [u32],
-    centroid_box: &Bounds,
-    node_bounds: &Bounds,
-) -> Option<usize> {
-    let n = order.len();
-    let extent = centroid_box.max - centroid_box.min;
-    let bin_of = |c: Vec3, axis: usize| -> usize {
-        let f = (c[axis] - centroid_box.min[axis]) / extent[axis] * BINS as f32;
-        (f as usize).min(BINS - 1)
+impl Item {
+    /// Centroid of the box (the origin for empty boxes, which bin anywhere harmlessly).
+    #[inline]
+    fn centroid(&self) -> Vec3 {
+        let c = self.bounds.center();
+        if c.is_finite() { c } else { Vec3::ZERO }
+    }
+}
+
+/// Build over `bounds`: the nodes (root first) and the leaf order.
+fn build_all(bounds: &[Bounds]) -> (Vec<Node>, Vec<u32>) {
+    let mut items: Vec<Item> = bounds
+        .iter()
+        .enumerate()
+        .map(|(i, b)| Item {
+            bounds: if b.min.is_finite() && b.max.is_finite() {
+                *b
+            } else {
+                Bounds::EMPTY
+            },
+            index: i as u32,
+        })
+        .collect();
+    let mut nodes = Vec::with_capacity(2 * items.len() / MAX_LEAF + 1);
+    build_into(&mut items, 0, 0, &mut nodes);
+    (nodes, items.iter().map(|i| i.index).collect())
+}
+
+/// Append the subtree over `items` (which start at `offset` in the final order) to `nodes`,
+/// root first, with node indices relative to the start of `nodes`.
+fn build_into(items: &mut [Item], offset: usize, depth: usize, nodes: &mut Vec<Node>) {
+    let n = items.len();
+    let node_bounds = items
+        .iter()
+        .fold(Bounds::EMPTY, |acc, it| acc.union(it.bounds));
+    let leaf = Node {
+        bounds: node_bounds,
+        index: offset as u32,
+        count: n as u32,
     };
+    if n <= 1 {
+        nodes.push(leaf);
+        return;
+    }
+    let centroid_box = items
+        .iter()
+        .fold(Bounds::EMPTY, |acc, it| acc.grow(it.centroid()));
+    let extent = centroid_box.max - centroid_box.min;
+    let mid = if depth < SAH_DEPTH && extent.max_element() > 0.0 {
+        match sah_split(items, &centroid_box, &node_bounds) {
+            Some(mid) => mid,
+            None if n <= MAX_LEAF => {
+                nodes.push(leaf);
+                return;
+            }
+            None => median_split(items, &centroid_box),
+        }
+    } else if n <= MAX_LEAF {
+        nodes.push(leaf);
+        return;
+    } else {
+        median_split(items, &centroid_box)
+    };
+    let (left, right) = items.split_at_mut(mid);
+    let at = nodes.len();
+    nodes.push(Node {
+        bounds: node_bounds,
+        index: 0,
+        count: 0,
+    });
+    if n > PARALLEL_MIN {
+        let (mut l, mut r) = rayon::join(
+            || {
+                let mut v = Vec::new();
+                build_into(left, offset, depth + 1, &mut v);
+                v
+            },
+            || {
+                let mut v = Vec::new();
+                build_into(right, offset + mid, depth + 1, &mut v);
+                v
+            },
+        );
+        let shift = |v: &mut Vec<Node>, base: usize| {
+            for nd in v.iter_mut().filter(|nd| nd.count == 0) {
+                nd.index += base as u32;
+            }
+        };
+        shift(&mut l, at + 1);
+        nodes[at].index = (at + 1 + l.len()) as u32;
+        shift(&mut r, at + 1 + l.len());
+        nodes.append(&mut l);
+        nodes.append(&mut r);
+    } else {
+        build_into(left, offset, depth + 1, nodes);
+        nodes[at].index = nodes.len() as u32;
+        build_into(right, offset + mid, depth + 1, nodes);
+    }
+}
+
+/// Partition `items` at the cheapest SAH bin boundary; returns the split position, or `None`
+/// when a leaf is cheaper (only allowed for small nodes, see the caller) or no boundary
+/// separates anything. All three axes are binned in one pass over the items.
+fn sah_split(items: &mut [Item], centroid_box: &Bounds, node_bounds: &Bounds) -> Option<usize> {
+    let n = items.len();
+    let extent = centroid_box.max - centroid_box.min;
+    let scale = Vec3::select(
+        extent.cmpgt(Vec3::ZERO),
+        Vec3::splat(BINS as f32) / extent,
+        Vec3::ZERO,
+    );
+    let bin_of = |c: Vec3, axis: usize| -> usize {
+        (((c[axis] - centroid_box.min[axis]) * scale[axis]) as usize).min(BINS - 1)
+    };
+    let mut bin_bounds = [[Bounds::EMPTY; BINS]; 3];
+    let mut bin_count = [[0usize; BINS]; 3];
+    for it in items.iter() {
+        let c = it.centroid();
+        for axis in 0..3 {
+            let b = bin_of(c, axis);
+            bin_count[axis][b] += 1;
+            bin_bounds[axis][b] = bin_bounds[axis][b].union(it.bounds);
+        }
+    }
     let mut best: Option<(f32, usize, usize)> = None;
     for axis in 0..3 {
         if extent[axis] <= 0.0 {
             continue;
-        }
-        let mut bin_bounds = [Bounds::EMPTY; BINS];
-        let mut bin_count = [0usize; BINS];
-        for &i in order.iter() {
-            let c = centroids[i as usize];
-            if !c.is_finite() {
-                continue;
-            }
-            let b = bin_of(c, axis);
-            bin_count[b] += 1;
-            bin_bounds[b] = bin_bounds[b].union(bounds[i as usize]);
         }
         // Sweep from the right to get the right side of every boundary.
         let mut right_area = [0.0f32; BINS];
@@ -389,16 +414,16 @@ fn sah_split(
         let mut acc = Bounds::EMPTY;
         let mut cnt = 0;
         for b in (1..BINS).rev() {
-            acc = acc.union(bin_bounds[b]);
-            cnt += bin_count[b];
+            acc = acc.union(bin_bounds[axis][b]);
+            cnt += bin_count[axis][b];
             right_area[b] = acc.half_area();
             right_count[b] = cnt;
         }
         let mut acc = Bounds::EMPTY;
         let mut cnt = 0;
         for b in 0..BINS - 1 {
-            acc = acc.union(bin_bounds[b]);
-            cnt += bin_count[b];
+            acc = acc.union(bin_bounds[axis][b]);
+            cnt += bin_count[axis][b];
             let (rc, ra) = (right_count[b + 1], right_area[b + 1]);
             if cnt == 0 || rc == 0 {
                 continue;
@@ -414,22 +439,21 @@ fn sah_split(
     if n <= MAX_LEAF && cost >= leaf_cost {
         return None;
     }
-    // Partition in place: primitives in bins <= boundary go left (non-finite centroids right).
+    // Partition in place: items in bins <= boundary go left.
     let mut mid = 0;
     for k in 0..n {
-        let c = centroids[order[k] as usize];
-        if c.is_finite() && bin_of(c, axis) <= boundary {
-            order.swap(k, mid);
+        if bin_of(items[k].centroid(), axis) <= boundary {
+            items.swap(k, mid);
             mid += 1;
         }
     }
     (mid > 0 && mid < n).then_some(mid)
 }
 
-/// Split at the centroid median of the longest axis of the centroid box (by index when the box
-/// is a point).
-fn median_split(centroids: &[Vec3], order: &mut [u32], centroid_box: &Bounds) -> usize {
-    let mid = order.len() / 2;
+/// Split at the centroid median of the longest axis of the centroid box (at the middle index
+/// when the box is a point).
+fn median_split(items: &mut [Item], centroid_box: &Bounds) -> usize {
+    let mid = items.len() / 2;
     let extent = centroid_box.max - centroid_box.min;
     if extent.max_element().is_nan() || extent.max_element() <= 0.0 {
         return mid;
@@ -441,8 +465,8 @@ fn median_split(centroids: &[Vec3], order: &mut [u32], centroid_box: &Bounds) ->
     } else {
         2
     };
-    order.select_nth_unstable_by(mid, |&a, &b| {
-        centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis])
+    items.select_nth_unstable_by(mid, |a, b| {
+        a.centroid()[axis].total_cmp(&b.centroid()[axis])
     });
     mid
 }

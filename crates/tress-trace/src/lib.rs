@@ -28,7 +28,8 @@
 //!   scene's eye, target, up, vertical field of view and output size, clipped to its near and
 //!   far planes; pixel `(x, y)` covers the same film area as the GPU's pixel.
 //! - **Strands** are chains of capsules ([`geometry`]): each segment is a cylinder with
-//!   half-sphere caps, its radius interpolated along the segment. Their width
+//!   half-sphere caps, its radius interpolated along the segment; caps count only at the root
+//!   and the tip, so a ray through a joint crosses a translucent strand once. Their width
 //!   ([`StrandWidth`]): by default (`auto`) the physical thickness, the material's `thickness`
 //!   or else the asset's per-vertex thickness (Jansson §3: strands of constant radius; the
 //!   generators taper to a tenth at the tip); an asset without thickness is drawn like the GPU
@@ -72,8 +73,11 @@
 //!   pixel's samples the same way. Random numbers come from one SplitMix64 stream per pixel
 //!   seeded by `seed` and the pixel index, so images are deterministic whatever the thread
 //!   count. Rows are rendered in parallel with rayon.
-//! - **BVH** ([`bvh`]): one binned-SAH hierarchy over segments and triangles, primitives stored
-//!   in leaf order.
+//! - **BVH** ([`bvh`]): one binned-SAH hierarchy over segments and triangles. A thin diagonal
+//!   segment fills little of its box, so rays through hair would test many segments they miss:
+//!   long segments are referenced in up to 4 pieces (at most 1/128 of the hair's diagonal
+//!   long), each bounding its part of the capsule and reporting only hits in its part. On the
+//!   demo ponytail this made shadow and AO rays about 4 times faster.
 //! - **AOVs** ([`Aov`]): the color, the AO, or the light visibility (luminance-weighted over the
 //!   lights) of the surface each sample stops at, averaged like the color; the background is
 //!   1 in the AO and shadow images.

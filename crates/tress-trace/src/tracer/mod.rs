@@ -3,230 +3,28 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
+mod setup;
+
 use glam::Vec3;
 use rayon::prelude::*;
-use serde::Deserialize;
-use tress_hair::HairAsset;
-use tress_hair::generate::TriMesh;
 use tress_hair::rng::Rng;
-use tress_scene::{HeadSource, Scene};
-use tress_shading::{HairLighting, HairSample, KajiyaKay, hair_lighting, kajiya_kay, tip_fade};
+use tress_scene::Scene;
+use tress_shading::{HairLighting, HairSample, KajiyaKay, hair_lighting, kajiya_kay};
 
-use crate::bvh::{Bounds, Bvh, Visit};
-use crate::geometry::{Ray, closest_segment_param, intersect_capsule, intersect_triangle};
+use crate::bvh::Visit;
+use crate::geometry::{Ray, intersect_triangle};
 use crate::sampling::{
     cosine_hemisphere, hash_unit, lattice_generator, lattice_point, strand_random,
 };
 use crate::{Aov, Image, StrandWidth, TraceError, TraceSettings};
+use setup::{GpuStrands, PinholeCamera, Primitives, Segment, Shading, TRIANGLE, Triangle};
+pub use setup::{HEAD_SUBDIVISIONS, SceneGeometry};
 
 /// Head mesh color (linear RGB): the value of `tress_render::Material::default().head_color`,
 /// which the scene file does not set. Mirrored here because this crate has no GPU dependency.
 pub const HEAD_COLOR: Vec3 = Vec3::new(0.55, 0.40, 0.33);
-/// Subdivisions of the generated head's mesh, as `tress_render::scene_setup` draws it.
-pub const HEAD_SUBDIVISIONS: u32 = 64;
 /// A secondary ray whose transmittance falls below this counts as blocked.
 const CUTOFF: f32 = 1e-4;
-
-/// The `[strands]` keys the tracer shares with the GPU rasterizer (others are ignored here; the
-/// rasterizer checks them). Defaults mirror `tress_render::StrandSettings::default()`.
-#[derive(Deserialize, Default, Debug)]
-#[serde(default)]
-struct GpuStrandKeys {
-    width_px: Option<f32>,
-    alpha: Option<f32>,
-    shading: Option<String>,
-    thickness_fade: Option<String>,
-}
-
-/// The strand rasterizer's shading model (`strands.shading`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Shading {
-    KajiyaKay,
-    Scheuermann,
-}
-
-/// The rasterizer's `strands.thickness_fade`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum ThicknessFade {
-    Off,
-    Tip,
-    Projected,
-}
-
-/// The strand settings of the GPU technique the reference follows.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct GpuStrands {
-    width_px: f32,
-    alpha: f32,
-    shading: Shading,
-    thickness_fade: ThicknessFade,
-}
-
-impl GpuStrands {
-    fn from_scene(scene: &Scene) -> Result<GpuStrands, TraceError> {
-        let keys: GpuStrandKeys = scene.technique_settings("strands")?;
-        let invalid = |m: String| Err(TraceError::Invalid(m));
-        let width_px = keys.width_px.unwrap_or(1.5);
-        if !(width_px > 0.0 && width_px <= 64.0) {
-            return invalid("strands.width_px must be in (0, 64]".into());
-        }
-        let alpha = keys.alpha.unwrap_or(0.6);
-        if !(0.0..=1.0).contains(&alpha) {
-            return invalid("strands.alpha must be in [0, 1]".into());
-        }
-        let shading = match keys.shading.as_deref().unwrap_or("kajiya-kay") {
-            "kajiya-kay" => Shading::KajiyaKay,
-            "scheuermann" => Shading::Scheuermann,
-            s => {
-                return invalid(format!(
-                    "unknown shading `{s}` (expected kajiya-kay or scheuermann)"
-                ));
-            }
-        };
-        let thickness_fade = match keys.thickness_fade.as_deref().unwrap_or("tip") {
-            "off" => ThicknessFade::Off,
-            "tip" => ThicknessFade::Tip,
-            "projected" => ThicknessFade::Projected,
-            s => {
-                return invalid(format!(
-                    "unknown thickness_fade `{s}` (expected off, tip or projected)"
-                ));
-            }
-        };
-        Ok(GpuStrands {
-            width_px,
-            alpha,
-            shading,
-            thickness_fade,
-        })
-    }
-}
-
-/// A scene's hair (all `[[hair]]` entries merged) and head mesh, loaded but not yet placed in
-/// a BVH (the strand widths may depend on the camera).
-#[derive(Clone, Debug)]
-pub struct SceneGeometry {
-    /// The merged hair, if the scene has any.
-    pub hair: Option<HairAsset>,
-    /// The head mesh, if the scene has one.
-    pub head: Option<TriMesh>,
-}
-
-impl SceneGeometry {
-    /// Load (or generate) the scene's hair and head, as the GPU path does: hair entries merged,
-    /// the generated head meshed with [`HEAD_SUBDIVISIONS`], OBJ heads read with
-    /// [`TriMesh::read_obj`]. Errors name the file or entry.
-    pub fn load(scene: &Scene) -> Result<SceneGeometry, TraceError> {
-        let assets = scene.load_hair()?;
-        let hair = if assets.is_empty() {
-            None
-        } else {
-            Some(HairAsset::merge(&assets)?)
-        };
-        let head = match scene.head_source() {
-            HeadSource::None => None,
-            HeadSource::Obj(path) => Some(TriMesh::read_obj(&path)?),
-            HeadSource::Generated(head) => {
-                head.validate()?;
-                Some(head.mesh(HEAD_SUBDIVISIONS))
-            }
-        };
-        Ok(SceneGeometry { hair, head })
-    }
-}
-
-/// A pinhole camera matching the GPU's `look_at_rh` + `perspective_rh`: pixel `(x, y)` (origin
-/// top-left, `y` down, centres at half-integers) looks through NDC `(2x/w - 1, 1 - 2y/h)`.
-#[derive(Clone, Copy, Debug)]
-struct PinholeCamera {
-    eye: Vec3,
-    forward: Vec3,
-    right: Vec3,
-    up: Vec3,
-    tan_half_y: f32,
-    aspect: f32,
-    near: f32,
-    far: f32,
-    width: u32,
-    height: u32,
-}
-
-impl PinholeCamera {
-    fn new(scene: &Scene) -> PinholeCamera {
-        let c = &scene.camera;
-        let forward = (c.target - c.eye).normalize();
-        let right = forward.cross(c.up).normalize();
-        let up = right.cross(forward);
-        PinholeCamera {
-            eye: c.eye,
-            forward,
-            right,
-            up,
-            tan_half_y: (c.fov_y_deg.to_radians() * 0.5).tan(),
-            aspect: scene.output.aspect(),
-            near: c.near,
-            far: c.far,
-            width: scene.output.width,
-            height: scene.output.height,
-        }
-    }
-
-    /// The ray through film point `(x, y)` in pixels, clipped to the near and far planes.
-    fn ray(&self, x: f32, y: f32) -> Ray {
-        let ndc_x = 2.0 * x / self.width as f32 - 1.0;
-        let ndc_y = 1.0 - 2.0 * y / self.height as f32;
-        let d = self.forward
-            + self.right * (ndc_x * self.tan_half_y * self.aspect)
-            + self.up * (ndc_y * self.tan_half_y);
-        let len = d.length();
-        Ray::new(self.eye, d / len, self.near * len, self.far * len)
-    }
-
-    /// World units per pixel at view depth `depth`.
-    fn world_per_pixel(&self, depth: f32) -> f32 {
-        2.0 * self.tan_half_y * depth.max(self.near) / self.height as f32
-    }
-}
-
-/// A strand segment as the tracer stores it.
-#[derive(Clone, Copy, Debug)]
-struct Segment {
-    a: Vec3,
-    b: Vec3,
-    radius: [f32; 2],
-    alpha: [f32; 2],
-    strand: u32,
-    /// Index of the first vertex (neighbouring segments of a strand differ by one).
-    vertex: u32,
-}
-
-impl Segment {
-    fn intersect(&self, ray: &Ray) -> Option<(f32, f32)> {
-        let s = closest_segment_param(ray, self.a, self.b);
-        let r = self.radius[0] + (self.radius[1] - self.radius[0]) * s;
-        intersect_capsule(ray, self.a, self.b, r).map(|h| (h.t, h.s))
-    }
-
-    fn alpha_at(&self, s: f32) -> f32 {
-        self.alpha[0] + (self.alpha[1] - self.alpha[0]) * s
-    }
-}
-
-/// A triangle as the tracer stores it.
-#[derive(Clone, Copy, Debug)]
-struct Triangle {
-    v0: Vec3,
-    e1: Vec3,
-    e2: Vec3,
-    id: u32,
-}
-
-/// A primitive in BVH leaf order.
-#[derive(Clone, Copy, Debug)]
-enum Prim {
-    Segment(Segment),
-    Triangle(Triangle),
-}
 
 /// Where a secondary ray starts, so the primitives it starts on are not hit.
 #[derive(Clone, Copy, Debug)]
@@ -238,21 +36,28 @@ enum Origin {
 }
 
 impl Origin {
-    fn skips(&self, prim: &Prim) -> bool {
-        match (self, prim) {
-            (Origin::Strand { strand, vertex }, Prim::Segment(s)) => {
-                s.strand == *strand && s.vertex.abs_diff(*vertex) <= 1
-            }
-            (Origin::Triangle(id), Prim::Triangle(t)) => t.id == *id,
-            _ => false,
-        }
+    fn skips_segment(&self, s: &Segment) -> bool {
+        matches!(self, Origin::Strand { strand, vertex }
+            if s.strand == *strand && s.vertex.abs_diff(*vertex) <= 1)
+    }
+
+    fn skips_triangle(&self, id: u32) -> bool {
+        matches!(self, Origin::Triangle(t) if *t == id)
     }
 }
 
 #[derive(Clone, Copy, Debug)]
 enum HitKind {
-    Segment { seg: Segment, s: f32 },
-    Triangle { tri: Triangle, u: f32, v: f32 },
+    Segment {
+        seg: Segment,
+        s: f32,
+    },
+    Triangle {
+        tri: Triangle,
+        id: u32,
+        u: f32,
+        v: f32,
+    },
 }
 
 /// One camera sample's result.
@@ -308,12 +113,7 @@ pub struct Tracer {
     vertex_colors: Option<Vec<Vec3>>,
     hair_center: Vec3,
     background: Vec3,
-    bvh: Bvh,
-    prims: Vec<Prim>,
-    tri_normals: Vec<[Vec3; 3]>,
-    segment_count: usize,
-    triangle_count: usize,
-    strand_width: StrandWidth,
+    prims: Primitives,
     build_seconds: f64,
 }
 
@@ -342,57 +142,7 @@ impl Tracer {
             .map(|l| (l.to_light(), l.radiance()))
             .collect();
 
-        let mut prims = Vec::new();
-        let mut bounds = Vec::new();
-        let mut strand_width = settings.width;
-        if let Some(hair) = &geometry.hair {
-            let (segments, width) =
-                strand_segments(hair, &camera, gpu, settings, material.thickness);
-            strand_width = width;
-            for s in segments {
-                let r = s.radius[0].max(s.radius[1]);
-                bounds.push(Bounds {
-                    min: s.a.min(s.b) - Vec3::splat(r),
-                    max: s.a.max(s.b) + Vec3::splat(r),
-                });
-                prims.push(Prim::Segment(s));
-            }
-        }
-        let segment_count = prims.len();
-        let mut tri_normals = Vec::new();
-        if let Some(mesh) = &geometry.head {
-            for (id, t) in mesh.indices.chunks_exact(3).enumerate() {
-                let corner = |k: usize| -> Result<(Vec3, Vec3), TraceError> {
-                    let i = t[k] as usize;
-                    let p = *mesh.positions.get(i).ok_or_else(|| {
-                        TraceError::Invalid(format!("head mesh: index {i} out of range"))
-                    })?;
-                    let n = mesh.normals.get(i).copied().unwrap_or(Vec3::ZERO);
-                    Ok((p, n))
-                };
-                let (p0, n0) = corner(0)?;
-                let (p1, n1) = corner(1)?;
-                let (p2, n2) = corner(2)?;
-                if !(p0.is_finite() && p1.is_finite() && p2.is_finite()) {
-                    return Err(TraceError::Invalid(format!(
-                        "head mesh: triangle {id} has a non-finite corner"
-                    )));
-                }
-                let id = u32::try_from(id)
-                    .map_err(|_| TraceError::Invalid("head mesh: too many triangles".into()))?;
-                bounds.push(Bounds::EMPTY.grow(p0).grow(p1).grow(p2));
-                prims.push(Prim::Triangle(Triangle {
-                    v0: p0,
-                    e1: p1 - p0,
-                    e2: p2 - p0,
-                    id,
-                }));
-                tri_normals.push([n0, n1, n2]);
-            }
-        }
-        let triangle_count = prims.len() - segment_count;
-        let bvh = Bvh::build(&bounds);
-        let prims = bvh.order().iter().map(|&i| prims[i as usize]).collect();
+        let prims = Primitives::build(geometry, &camera, gpu, settings, material.thickness)?;
         let vertex_colors = geometry
             .hair
             .as_ref()
@@ -412,29 +162,29 @@ impl Tracer {
             vertex_colors,
             hair_center,
             background: scene.background,
-            bvh,
             prims,
-            tri_normals,
-            segment_count,
-            triangle_count,
-            strand_width,
             build_seconds: start.elapsed().as_secs_f64(),
         })
     }
 
     /// Number of strand segments traced.
     pub fn segment_count(&self) -> usize {
-        self.segment_count
+        self.prims.segments.len()
+    }
+
+    /// Number of BVH references (segments are referenced in pieces, see the crate docs).
+    pub fn reference_count(&self) -> usize {
+        self.prims.refs.len()
     }
 
     /// Number of head triangles traced.
     pub fn triangle_count(&self) -> usize {
-        self.triangle_count
+        self.prims.triangles.len()
     }
 
     /// The strand width mode in effect ([`StrandWidth::Auto`] resolved).
     pub fn strand_width(&self) -> StrandWidth {
-        self.strand_width
+        self.prims.strand_width
     }
 
     /// Seconds spent building the BVH and the primitive arrays.
@@ -522,22 +272,29 @@ impl Tracer {
         rays: &mut u64,
     ) -> SampleValue {
         *rays += 1;
-        let hit = self.bvh.nearest(ray, |pos, ray| match &self.prims[pos] {
-            Prim::Segment(seg) => {
+        let p = &self.prims;
+        let hit = p.bvh.nearest(ray, |pos, ray| {
+            let r = p.refs[pos];
+            if r.id & TRIANGLE != 0 {
+                let id = r.id & !TRIANGLE;
+                let tri = p.triangles[id as usize];
+                intersect_triangle(ray, tri.v0, tri.e1, tri.e2).map(|h| {
+                    (
+                        h.t,
+                        HitKind::Triangle {
+                            tri,
+                            id,
+                            u: h.u,
+                            v: h.v,
+                        },
+                    )
+                })
+            } else {
+                let seg = p.segments[r.id as usize];
                 let (t, s) = seg.intersect(ray)?;
-                (hash_unit(key, pos as u64) < seg.alpha_at(s))
-                    .then_some((t, HitKind::Segment { seg: *seg, s }))
+                (r.owns(s) && hash_unit(key, u64::from(r.id)) < seg.alpha_at(s))
+                    .then_some((t, HitKind::Segment { seg, s }))
             }
-            Prim::Triangle(tri) => intersect_triangle(ray, tri.v0, tri.e1, tri.e2).map(|h| {
-                (
-                    h.t,
-                    HitKind::Triangle {
-                        tri: *tri,
-                        u: h.u,
-                        v: h.v,
-                    },
-                )
-            }),
         });
         let Some((t, kind)) = hit else {
             return SampleValue {
@@ -608,17 +365,17 @@ impl Tracer {
                     shadow: if weight > 0.0 { vis_sum / weight } else { 1.0 },
                 }
             }
-            HitKind::Triangle { tri, u, v: bv } => {
+            HitKind::Triangle { tri, id, u, v: bv } => {
                 let p = ray.at(t);
                 let geo = tri.e1.cross(tri.e2).normalize_or(v);
                 let geo = if geo.dot(v) < 0.0 { -geo } else { geo };
-                let [n0, n1, n2] = self.tri_normals[tri.id as usize];
+                let [n0, n1, n2] = tri.normals;
                 let interp = (n0 * (1.0 - u - bv) + n1 * u + n2 * bv).normalize_or(geo);
                 // Two-sided, like the GPU's head pass: face the viewer.
                 let n = if interp.dot(v) < 0.0 { -interp } else { interp };
                 let eps = 1e-4 * (1.0 + p.abs().max_element());
                 let start = p + geo * eps;
-                let origin = Origin::Triangle(tri.id);
+                let origin = Origin::Triangle(id);
                 let ao = if want_ao {
                     self.ambient_occlusion(start, geo, origin, ao_points, rays)
                 } else {
@@ -687,21 +444,24 @@ impl Tracer {
     /// strands it enters, 0 at any triangle (the head is opaque).
     fn transmittance(&self, ray: &Ray, origin: Origin) -> f32 {
         let mut left = 1.0f32;
-        self.bvh.for_each_hit(ray, |pos| {
-            let prim = &self.prims[pos];
-            if origin.skips(prim) {
-                return Visit::Continue;
-            }
-            match prim {
-                Prim::Segment(seg) => {
-                    if let Some((_, s)) = seg.intersect(ray) {
-                        left *= 1.0 - seg.alpha_at(s).clamp(0.0, 1.0);
-                    }
+        let p = &self.prims;
+        p.bvh.for_each_hit(ray, |pos| {
+            let r = p.refs[pos];
+            if r.id & TRIANGLE != 0 {
+                let id = r.id & !TRIANGLE;
+                let tri = &p.triangles[id as usize];
+                if !origin.skips_triangle(id)
+                    && intersect_triangle(ray, tri.v0, tri.e1, tri.e2).is_some()
+                {
+                    left = 0.0;
                 }
-                Prim::Triangle(tri) => {
-                    if intersect_triangle(ray, tri.v0, tri.e1, tri.e2).is_some() {
-                        left = 0.0;
-                    }
+            } else {
+                let seg = &p.segments[r.id as usize];
+                if !origin.skips_segment(seg)
+                    && let Some((_, s)) = seg.intersect(ray)
+                    && r.owns(s)
+                {
+                    left *= 1.0 - seg.alpha_at(s).clamp(0.0, 1.0);
                 }
             }
             if left < CUTOFF {
@@ -717,69 +477,6 @@ impl Tracer {
 
 fn luminance(c: Vec3) -> f32 {
     c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
-}
-
-/// The segments of `hair` with their radii and alphas (see the crate docs, "Strands"), and the
-/// width mode used.
-fn strand_segments(
-    hair: &HairAsset,
-    camera: &PinholeCamera,
-    gpu: GpuStrands,
-    settings: &TraceSettings,
-    material_thickness: Option<f32>,
-) -> (Vec<Segment>, StrandWidth) {
-    let thickness = hair.thickness();
-    let has_thickness =
-        material_thickness.is_some() || thickness.is_some_and(|t| t.iter().any(|&x| x > 0.0));
-    let mode = match settings.width {
-        StrandWidth::Auto | StrandWidth::Thickness if has_thickness => StrandWidth::Thickness,
-        StrandWidth::Auto | StrandWidth::Thickness => StrandWidth::Screen,
-        StrandWidth::Screen => StrandWidth::Screen,
-    };
-    let max_thickness = thickness.map_or(0.0, |t| t.iter().copied().fold(0.0, f32::max));
-    let width_px = settings.width_px.unwrap_or(gpu.width_px * 0.5);
-    let transparency = hair.transparency();
-    let positions = hair.positions();
-    let per_vertex = |i: usize| -> (f32, f32) {
-        let opacity = gpu.alpha * transparency.map_or(1.0, |t| (1.0 - t[i]).clamp(0.0, 1.0));
-        let thick = thickness.map_or(0.0, |t| t[i]);
-        match mode {
-            StrandWidth::Thickness => (0.5 * material_thickness.unwrap_or(thick), opacity),
-            _ => {
-                let depth = (positions[i] - camera.eye).dot(camera.forward);
-                let wpp = camera.world_per_pixel(depth);
-                let fade = match gpu.thickness_fade {
-                    ThicknessFade::Tip if max_thickness > 0.0 => tip_fade(thick, max_thickness),
-                    ThicknessFade::Projected if thickness.is_some() => {
-                        tip_fade(thick / wpp, gpu.width_px)
-                    }
-                    _ => 1.0,
-                };
-                (0.5 * width_px * wpp, opacity * fade)
-            }
-        }
-    };
-    let attrs: Vec<(f32, f32)> = (0..positions.len())
-        .into_par_iter()
-        .map(per_vertex)
-        .collect();
-    let mut segments = Vec::with_capacity(hair.segment_count());
-    for strand in 0..hair.strand_count() {
-        let range = hair.strand_range(strand);
-        for i in range.start..range.end.saturating_sub(1) {
-            let (r0, a0) = attrs[i];
-            let (r1, a1) = attrs[i + 1];
-            segments.push(Segment {
-                a: positions[i],
-                b: positions[i + 1],
-                radius: [r0, r1],
-                alpha: [a0, a1],
-                strand: strand as u32,
-                vertex: i as u32,
-            });
-        }
-    }
-    (segments, mode)
 }
 
 #[cfg(test)]

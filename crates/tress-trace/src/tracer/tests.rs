@@ -1,5 +1,7 @@
 use super::*;
 use crate::sampling::lattice_point;
+use tress_hair::HairAsset;
+use tress_hair::generate::TriMesh;
 
 /// A scene looking down -z from `(0, 0, 10)` at the origin (30° field of view), black
 /// background, no head, no lights unless `extra` adds them, a hair entry for the material.
@@ -436,4 +438,36 @@ fn strand_settings_from_the_scene_are_checked() {
         )
         .is_err()
     );
+}
+
+#[test]
+fn a_ray_through_a_joint_or_across_pieces_crosses_the_strand_once() {
+    // A straight strand of three segments along x (joints at x = -1 and 1), long enough to be
+    // referenced in pieces: rays through the joints, and anywhere along it, see one crossing.
+    let positions = vec![
+        Vec3::new(-3.0, 0.0, 1.0),
+        Vec3::new(-1.0, 0.0, 1.0),
+        Vec3::new(1.0, 0.0, 1.0),
+        Vec3::new(3.0, 0.0, 1.0),
+    ];
+    let hair = HairAsset::from_counts(positions, &[4])
+        .unwrap()
+        .with_thickness(vec![0.4; 4])
+        .unwrap();
+    let sc = scene(8, "[strands]\nalpha = 0.5\n");
+    let tr = tracer(&sc, Some(hair), None, &TraceSettings::default());
+    assert!(tr.reference_count() > 3, "segments are split into pieces");
+    let none = Origin::Triangle(u32::MAX);
+    for k in 0..=60 {
+        let x = -2.9 + 5.8 * k as f32 / 60.0;
+        for dir in [
+            Vec3::Z,
+            Vec3::new(0.6, 0.0, 0.8),
+            Vec3::new(-0.3, 0.1, 0.9).normalize(),
+        ] {
+            let origin = Vec3::new(x, 0.0, 1.0) - dir * 3.0;
+            let t = tr.transmittance(&Ray::new(origin, dir, 0.0, f32::INFINITY), none);
+            assert!((t - 0.5).abs() < 1e-6, "x {x}, dir {dir}: {t}");
+        }
+    }
 }
