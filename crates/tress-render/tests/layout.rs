@@ -154,6 +154,7 @@ fn patch_types_match_wgsl() {
         ("lighting", offset_of!(PatchParamsGpu, lighting)),
         ("alpha_ref", offset_of!(PatchParamsGpu, alpha_ref)),
         ("use_ao", offset_of!(PatchParamsGpu, use_ao)),
+        ("min_alpha", offset_of!(PatchParamsGpu, min_alpha)),
     ]
     .iter()
     .map(|(n, o)| (n.to_string(), *o as u32))

@@ -25,13 +25,21 @@ const TOL: f32 = 4e-3;
 /// camera (`front`) or away from it, with AO `ao`. `u` runs along x, `v` along y, the tangent
 /// is +y.
 fn mesh(quads: &[(f32, bool, f32)]) -> PatchMesh {
+    let shifted: Vec<_> = quads.iter().map(|&(z, f, a)| (z, f, a, 0.0)).collect();
+    mesh_shifted(&shifted)
+}
+
+/// [`mesh`] with each quad's `u` shifted by its fourth value.
+fn mesh_shifted(quads: &[(f32, bool, f32, f32)]) -> PatchMesh {
     let (mut p, mut n, mut uv, mut ao, mut idx) = (vec![], vec![], vec![], vec![], vec![]);
-    for &(z, front, a) in quads {
+    for &(z, front, a, du) in quads {
         let base = p.len() as u32;
         p.extend(
             [(-1.5, -1.5), (1.5, -1.5), (1.5, 1.5), (-1.5, 1.5)].map(|(x, y)| Vec3::new(x, y, z)),
         );
-        uv.extend([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(|(u, v)| Vec2::new(u, v)));
+        uv.extend(
+            [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(|(u, v)| Vec2::new(u + du, v)),
+        );
         let (normal, tri): (Vec3, [u32; 6]) = if front {
             (Vec3::Z, [0, 1, 2, 0, 2, 3])
         } else {
@@ -57,11 +65,17 @@ fn constant(w: u32, channels: u32, f: impl Fn(u32) -> Vec<f32>) -> Texture {
     }
 }
 
-/// Base `BASE`, alpha 1 on the left half and `ALPHA_T` on the right, shift 0.5, noise 1.
+/// Base `BASE`; alpha 1 on the left half of `u`, `ALPHA_T` on the next quarter and 0 on the
+/// last; shift 0.5, noise 1.
 fn textures() -> HairTextures {
+    let alpha = |x| match x {
+        0..8 => 1.0,
+        8..12 => ALPHA_T,
+        _ => 0.0,
+    };
     HairTextures {
         base: constant(16, 3, |_| BASE.to_array().to_vec()),
-        alpha: constant(16, 1, |x| vec![if x < 8 { 1.0 } else { ALPHA_T }]),
+        alpha: constant(16, 1, |x| vec![alpha(x)]),
         spec_shift: constant(16, 1, |_| vec![0.5]),
         spec_noise: constant(16, 1, |_| vec![1.0]),
     }
@@ -86,12 +100,21 @@ fn render(
     sort_center: Vec3,
     head: Option<&HeadMesh>,
 ) -> Frame {
-    let ctx = common::gpu().expect("checked by the caller");
     let settings = PatchSettings {
         scheme,
         mipmaps: false,
         ..Default::default()
     };
+    render_with(settings, mesh, sort_center, head)
+}
+
+fn render_with(
+    settings: PatchSettings,
+    mesh: &PatchMesh,
+    sort_center: Vec3,
+    head: Option<&HeadMesh>,
+) -> Frame {
+    let ctx = common::gpu().expect("checked by the caller");
     let mut r = PatchRenderer::with_textures(&ctx, TargetFormats::default(), settings, textures())
         .expect("renderer");
     let geometry = r.upload_patches(&ctx, mesh, sort_center).expect("upload");
@@ -135,9 +158,11 @@ fn assert_pixel(img: &LinearImage, x: u32, y: u32, expect: Vec3, what: &str) {
     );
 }
 
-/// Columns in the opaque (left) and transparent (right) halves of the texture.
-const OPAQUE_X: u32 = SIZE / 4;
-const TRANSPARENT_X: u32 = 3 * SIZE / 4;
+/// Columns in the opaque, transparent and empty parts of the alpha texture (`u` = 0.34, 0.68
+/// and 0.80: texels 5.5, 10.8 and 12.8, each one away from a change).
+const OPAQUE_X: u32 = 8;
+const TRANSPARENT_X: u32 = 24;
+const EMPTY_X: u32 = 30;
 
 #[test]
 fn opaque_parts_hide_and_transparent_parts_blend_in_both_schemes() {
@@ -199,6 +224,43 @@ fn transparent_front_faces_write_depth() {
     let b = base_q();
     for scheme in [RenderScheme::FourPass, RenderScheme::ThreePass] {
         let f = render(scheme, &m, Vec3::new(0.0, 0.0, 5.0), None);
+        assert_pixel(
+            &f.image,
+            TRANSPARENT_X,
+            SIZE / 2,
+            over(b, ALPHA_T, bg()),
+            scheme.name(),
+        );
+    }
+}
+
+#[test]
+fn min_alpha_keeps_empty_parts_from_hiding_later_patches() {
+    if common::gpu().is_none() {
+        return;
+    }
+    // As above, the nearer quad (AO 1) is drawn first; at EMPTY_X it is empty (alpha 0), while
+    // the farther quad (AO 0.25), its u shifted, is transparent there.
+    let m = mesh_shifted(&[(0.0, true, 0.25, -0.2), (0.5, true, 1.0, 0.0)]);
+    let b = base_q();
+    for scheme in [RenderScheme::FourPass, RenderScheme::ThreePass] {
+        let paper = PatchSettings {
+            scheme,
+            mipmaps: false,
+            ..Default::default()
+        };
+        // The slides' schemes: the empty fragment writes depth and hides the farther quad.
+        let f = render_with(paper.clone(), &m, Vec3::new(0.0, 0.0, 5.0), None);
+        assert_pixel(&f.image, EMPTY_X, SIZE / 2, bg(), scheme.name());
+        // With min_alpha it is dropped, and the farther quad shows.
+        let option = PatchSettings {
+            min_alpha: 0.1,
+            ..paper
+        };
+        let f = render_with(option, &m, Vec3::new(0.0, 0.0, 5.0), None);
+        let expect = over(b * 0.25, ALPHA_T, bg());
+        assert_pixel(&f.image, EMPTY_X, SIZE / 2, expect, scheme.name());
+        // Transparent parts above min_alpha are unchanged: near over the background only.
         assert_pixel(
             &f.image,
             TRANSPARENT_X,

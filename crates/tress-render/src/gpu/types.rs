@@ -223,8 +223,10 @@ pub struct PatchParamsGpu {
     pub alpha_ref: f32,
     /// 1: multiply by the baked ambient occlusion; 0: ignore it.
     pub use_ao: u32,
+    /// The `min_alpha` option: the depth-writing transparent pass drops alpha below it.
+    pub min_alpha: f32,
     /// Padding to the struct's 16-byte alignment.
-    pub _pad: [f32; 2],
+    pub _pad: f32,
 }
 
 /// Convert a glam matrix for upload.

@@ -29,6 +29,8 @@ struct PatchParams {
     alpha_ref: f32,
     // 1: multiply by the baked ambient occlusion.
     use_ao: u32,
+    // The `min_alpha` option: the depth-writing transparent pass drops alpha below it.
+    min_alpha: f32,
 }
 
 @group(2) @binding(0) var<uniform> patch_params: PatchParams;

@@ -60,9 +60,17 @@
 //!   is `@invariant`, so pass 2 reproduces pass 1's depth bit for bit. `"3-pass"` is the slides'
 //!   unoptimized "Sorted Hair Rendering Scheme": (1) alpha test passes opaque pixels, no
 //!   culling, Z writes, `Less`; (2) alpha test passes non-opaque pixels, cull front faces, no Z
-//!   writes, `Less`; (3) the same with back faces culled and Z writes. As in the paper, the last
-//!   pass writes depth for every transparent fragment it draws, alpha 0 included. Each pass is
-//!   one render pass with its own GPU timestamps ([`PASS_NAMES`]).
+//!   writes, `Less`; (3) the same with back faces culled and Z writes. Each pass is one render
+//!   pass with its own GPU timestamps ([`PASS_NAMES`]).
+//! - **Empty fragments (an option beside the paper).** In both schemes the last pass writes
+//!   depth for every transparent fragment it draws, alpha 0 included, so the empty parts of a
+//!   patch (between its strands, past its tips) hide every patch drawn after it and behind it:
+//!   wherever the static inside-to-outside order disagrees with the view (hair hanging below the
+//!   head, strips crossing), later strips are cut off along the edges of earlier quads.
+//!   `min_alpha > 0` makes that pass alone discard fragments with alpha below it
+//!   ([`RenderScheme::passes_with`]); the other passes, and early Z in them, are unchanged.
+//!   The default 0 is the slides' schemes exactly; about 0.05 suits textures with large empty
+//!   areas such as the procedural alpha texture.
 //! - **Blending.** Every color pass blends the shader's straight color "over" the target
 //!   (`SrcAlpha, OneMinusSrcAlpha`; alpha `One, OneMinusSrcAlpha`), leaving the premultiplied
 //!   target the rest of the renderer uses.
@@ -119,6 +127,11 @@ pub struct PatchSettings {
     pub lighting: HairLighting,
     /// Alpha test reference in `(0, 1]`: alpha at or above it is opaque. Default 0.99.
     pub alpha_ref: f32,
+    /// An option beside the slides' schemes, in `[0, alpha_ref)`: when positive, the last pass
+    /// (the only transparent pass that writes depth) discards fragments with alpha below it, so
+    /// the empty parts of a patch do not hide patches drawn after it. Default 0: the slides'
+    /// schemes exactly.
+    pub min_alpha: f32,
     /// Multiply by the mesh's baked ambient occlusion. Default true.
     pub ambient_occlusion: bool,
     /// Build mip chains for the textures. Default true.
@@ -133,6 +146,7 @@ impl Default for PatchSettings {
             scheme: RenderScheme::FourPass,
             lighting: HairLighting::default(),
             alpha_ref: 0.99,
+            min_alpha: 0.0,
             ambient_occlusion: true,
             mipmaps: true,
             textures: TextureParams::default(),
@@ -174,6 +188,9 @@ impl PatchSettings {
         if !(self.alpha_ref > 0.0 && self.alpha_ref <= 1.0) {
             return bad("alpha_ref", "must be in (0, 1]");
         }
+        if !(self.min_alpha >= 0.0 && self.min_alpha < self.alpha_ref) {
+            return bad("min_alpha", "must be in [0, alpha_ref)");
+        }
         self.textures
             .validate()
             .map_err(|e| RenderError::Invalid(format!("patches.textures: {e}")))
@@ -195,8 +212,15 @@ impl PatchSettings {
             },
             alpha_ref: self.alpha_ref,
             use_ao: u32::from(self.ambient_occlusion),
-            _pad: [0.0; 2],
+            min_alpha: self.min_alpha,
+            _pad: 0.0,
         }
+    }
+
+    /// The passes these settings draw: the scheme's, with the `min_alpha` option applied
+    /// ([`RenderScheme::passes_with`]).
+    pub fn passes(&self) -> Vec<PatchPass> {
+        self.scheme.passes_with(self.min_alpha > 0.0)
     }
 }
 

@@ -31,12 +31,31 @@ impl RenderScheme {
         }
     }
 
-    /// The passes, in draw order (after the head).
+    /// The passes exactly as the slides give them, in draw order (after the head).
     pub fn passes(self) -> &'static [PatchPass] {
         match self {
             RenderScheme::FourPass => &FOUR_PASS,
             RenderScheme::ThreePass => &THREE_PASS,
         }
+    }
+
+    /// The passes with the `min_alpha` option (`drop_empty`): the last pass, the only
+    /// transparent one that writes depth, also discards fragments with `alpha < min_alpha`, so
+    /// the empty parts of a patch (between strands, past the tips) do not hide the patches drawn
+    /// after it. Without the option these are [`RenderScheme::passes`].
+    pub fn passes_with(self, drop_empty: bool) -> Vec<PatchPass> {
+        self.passes()
+            .iter()
+            .map(|p| {
+                let transparent_z = p.shader == PassShader::Full && p.depth_write;
+                let alpha_test = match (drop_empty && transparent_z, p.alpha_test) {
+                    (true, AlphaTest::Off) => AlphaTest::PassNonEmpty,
+                    (true, AlphaTest::PassTransparent) => AlphaTest::PassTransparentNonEmpty,
+                    (_, a) => a,
+                };
+                PatchPass { alpha_test, ..*p }
+            })
+            .collect()
     }
 }
 
@@ -69,6 +88,12 @@ pub enum AlphaTest {
     PassOpaque,
     /// Only non-opaque pixels pass: `alpha < alpha_ref`.
     PassTransparent,
+    /// Only pixels that are not (nearly) empty pass: `alpha >= min_alpha` (the `min_alpha`
+    /// option's depth-writing pass of the 4-pass scheme).
+    PassNonEmpty,
+    /// Only non-opaque pixels that are not (nearly) empty pass: `min_alpha <= alpha <
+    /// alpha_ref` (the `min_alpha` option's depth-writing pass of the 3-pass scheme).
+    PassTransparentNonEmpty,
 }
 
 /// Which fragment shader a pass runs.
@@ -223,6 +248,8 @@ impl PatchPass {
             (PassShader::Full, AlphaTest::Off) => "fs_main",
             (PassShader::Full, AlphaTest::PassOpaque) => "fs_opaque",
             (PassShader::Full, AlphaTest::PassTransparent) => "fs_transparent",
+            (PassShader::Full, AlphaTest::PassNonEmpty) => "fs_non_empty",
+            (PassShader::Full, AlphaTest::PassTransparentNonEmpty) => "fs_transparent_non_empty",
         }
     }
 
@@ -307,6 +334,35 @@ mod tests {
             assert_eq!(s.name().parse::<RenderScheme>().unwrap(), s);
         }
         assert!("2-pass".parse::<RenderScheme>().is_err());
+    }
+
+    #[test]
+    fn min_alpha_only_changes_the_depth_writing_transparent_pass() {
+        for s in [RenderScheme::FourPass, RenderScheme::ThreePass] {
+            assert_eq!(s.passes_with(false), s.passes());
+            let with = s.passes_with(true);
+            let last = s.passes().len() - 1;
+            for (i, (a, b)) in with.iter().zip(s.passes()).enumerate() {
+                if i == last {
+                    assert_ne!(a.alpha_test, b.alpha_test, "{}", a.name);
+                    assert_eq!(
+                        PatchPass {
+                            alpha_test: b.alpha_test,
+                            ..*a
+                        },
+                        *b
+                    );
+                } else {
+                    assert_eq!(a, b);
+                }
+            }
+        }
+        let four = RenderScheme::FourPass.passes_with(true);
+        assert_eq!(four[3].alpha_test, AlphaTest::PassNonEmpty);
+        assert_eq!(four[3].fragment_entry(), "fs_non_empty");
+        let three = RenderScheme::ThreePass.passes_with(true);
+        assert_eq!(three[2].alpha_test, AlphaTest::PassTransparentNonEmpty);
+        assert_eq!(three[2].fragment_entry(), "fs_transparent_non_empty");
     }
 
     #[test]

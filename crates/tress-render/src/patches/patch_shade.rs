@@ -2,7 +2,7 @@
 
 use super::PatchGeometry;
 use super::PatchLayouts;
-use super::passes::{PassShader, PatchPass, RenderScheme, create_pipeline};
+use super::passes::{PassShader, PatchPass, create_pipeline};
 use crate::{GpuContext, RenderError, shaders};
 
 /// The full `HairLighting` shader in the render states of a scheme's shading passes: opaque
@@ -10,7 +10,7 @@ use crate::{GpuContext, RenderError, shaders};
 /// faces. One pipeline per pass; the pass states come from [`PatchPass::pipeline_parts`].
 #[derive(Debug)]
 pub struct PatchShade {
-    scheme: RenderScheme,
+    passes: Vec<PatchPass>,
     pipelines: Vec<(&'static str, wgpu::RenderPipeline)>,
 }
 
@@ -19,7 +19,7 @@ impl PatchShade {
         ctx: &GpuContext,
         layouts: &PatchLayouts,
         color_format: wgpu::TextureFormat,
-        scheme: RenderScheme,
+        passes: Vec<PatchPass>,
     ) -> Result<Self, RenderError> {
         let module = shaders::create_module(
             ctx,
@@ -38,8 +38,7 @@ impl PatchShade {
                     ],
                     immediate_size: 0,
                 });
-            let pipelines = scheme
-                .passes()
+            let pipelines = passes
                 .iter()
                 .filter(|p| p.shader == PassShader::Full)
                 .map(|p| {
@@ -47,13 +46,14 @@ impl PatchShade {
                     (p.name, create_pipeline(ctx, &layout, &module, &parts))
                 })
                 .collect();
-            PatchShade { scheme, pipelines }
+            PatchShade { passes, pipelines }
         })
     }
 
-    /// The scheme the pipelines were built for.
-    pub fn scheme(&self) -> RenderScheme {
-        self.scheme
+    /// All passes of the scheme the pipelines were built for (the Z prime included), in draw
+    /// order.
+    pub fn passes(&self) -> &[PatchPass] {
+        &self.passes
     }
 
     /// Record `pass`'s draw into an open render pass (bind groups 0 to 2 already set). A pass

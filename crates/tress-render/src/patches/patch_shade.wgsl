@@ -64,3 +64,24 @@ fn fs_transparent(in: PatchVarying) -> @location(0) vec4<f32> {
     }
     return c;
 }
+
+// The `min_alpha` option's last pass (4-pass): drops (nearly) empty fragments, which would
+// otherwise write depth.
+@fragment
+fn fs_non_empty(in: PatchVarying) -> @location(0) vec4<f32> {
+    let c = shade(in);
+    if c.a < patch_params.min_alpha {
+        discard;
+    }
+    return c;
+}
+
+// The `min_alpha` option's last pass (3-pass): non-opaque and not (nearly) empty.
+@fragment
+fn fs_transparent_non_empty(in: PatchVarying) -> @location(0) vec4<f32> {
+    let c = shade(in);
+    if c.a >= patch_params.alpha_ref || c.a < patch_params.min_alpha {
+        discard;
+    }
+    return c;
+}

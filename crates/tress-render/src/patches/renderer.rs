@@ -178,7 +178,7 @@ impl PatchRenderer {
         Ok(PatchRenderer {
             head: PatchHead::new(ctx, &layouts.view, &layouts.lights, formats.color)?,
             z_prime: ZPrime::new(ctx, &layouts, formats.color)?,
-            shade: PatchShade::new(ctx, &layouts, formats.color, settings.scheme)?,
+            shade: PatchShade::new(ctx, &layouts, formats.color, settings.passes())?,
             formats,
             settings,
             layouts,
@@ -248,7 +248,8 @@ impl PatchRenderer {
         &self.textures_cpu
     }
 
-    /// Change settings (validated). A new scheme rebuilds the shading pipelines; new texture
+    /// Change settings (validated). A new scheme or `min_alpha` switch rebuilds the shading
+    /// pipelines; new texture
     /// parameters regenerate the procedural textures (textures given with
     /// [`PatchRenderer::set_textures`] are kept).
     pub fn set_settings(
@@ -257,8 +258,9 @@ impl PatchRenderer {
         settings: PatchSettings,
     ) -> Result<(), RenderError> {
         settings.validate()?;
-        if settings.scheme != self.shade.scheme() {
-            self.shade = PatchShade::new(ctx, &self.layouts, self.formats.color, settings.scheme)?;
+        let passes = settings.passes();
+        if passes != self.shade.passes() {
+            self.shade = PatchShade::new(ctx, &self.layouts, self.formats.color, passes)?;
         }
         let regenerate = !self.textures_given && settings.textures != self.settings.textures;
         if regenerate || settings.mipmaps != self.settings.mipmaps {
@@ -393,7 +395,7 @@ impl PatchRenderer {
             }
             // ---- the scheme's passes over the static inside-to-outside index buffer
             if let Some(geometry) = patches {
-                for p in scheme.passes() {
+                for p in shade.passes() {
                     let label = format!("{}/pass", p.name);
                     let mut pass = begin_pass(
                         &mut encoder,

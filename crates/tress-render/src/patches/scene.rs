@@ -23,6 +23,7 @@
 //! [patches]
 //! scheme = "4-pass"            # or "3-pass"
 //! alpha_ref = 0.99             # alpha test: alpha >= alpha_ref is opaque
+//! min_alpha = 0.0              # > 0: the last pass drops alpha below it (an option, see mod docs)
 //! ambient_occlusion = true
 //! mipmaps = true
 //! diffuse_color = [1.0, 1.0, 1.0]
@@ -124,6 +125,7 @@ struct TextureTable {
 struct PatchTable {
     scheme: Option<String>,
     alpha_ref: Option<f32>,
+    min_alpha: Option<f32>,
     ambient_occlusion: Option<bool>,
     mipmaps: Option<bool>,
     diffuse_color: Option<Vec3>,
@@ -163,7 +165,7 @@ pub fn patch_settings(scene: &Scene) -> Result<PatchSettings, RenderError> {
     if let Some(name) = &t.scheme {
         s.scheme = name.parse::<RenderScheme>()?;
     }
-    set!(s, t, alpha_ref, ambient_occlusion, mipmaps);
+    set!(s, t, alpha_ref, min_alpha, ambient_occlusion, mipmaps);
     set!(
         s.lighting,
         t,
