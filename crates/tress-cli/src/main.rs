@@ -26,6 +26,11 @@ enum Command {
     Generate(cmd::generate::Args),
     /// Convert between hair formats, merging inputs and optionally adding follow hairs.
     Convert(cmd::convert::Args),
+    /// Ray-trace the reference image of a scene, hair files or the demo (CPU, many samples per
+    /// pixel): color, ambient occlusion or shadow visibility, to PNG or EXR.
+    Reference(cmd::reference::Args),
+    /// Compare two images: mean FLIP, RMSE and SSIM, and a FLIP heat map.
+    CompareImages(cmd::compare_images::Args),
     /// Hair cards from strands: neighbouring strands grouped into ribbons, written as OBJ.
     Cards(cmd::cards::Args),
     /// Bake per-vertex ambient occlusion into a patch OBJ (or the generated patch head).
@@ -42,6 +47,8 @@ fn main() -> ExitCode {
         Command::Info(a) => cmd::info::run(a),
         Command::Generate(a) => cmd::generate::run(a),
         Command::Convert(a) => cmd::convert::run(a),
+        Command::Reference(a) => cmd::reference::run(a),
+        Command::CompareImages(a) => cmd::compare_images::run(a),
         Command::Cards(a) => cmd::cards::run(a),
         Command::BakeAo(a) => cmd::bake_ao::run(a),
         Command::Render(a) => cmd::render::run(a),

@@ -1,8 +1,9 @@
 //! Image-quality metrics between a reference and a test image: mean FLIP, RMSE and SSIM.
 //!
 //! All three see the same display-encoded images ([`DisplayImage`]: sRGB-encoded values in
-//! `[0, 1]`, as a PNG holds them; EXR inputs are clamped and encoded first), so a PNG and an EXR
-//! of the same render compare as equal.
+//! `[0, 1]`, as a PNG holds them; EXR inputs are clamped and encoded first, without rounding),
+//! so a PNG and an EXR of the same render differ only by the PNG's 8-bit rounding (FLIP, which
+//! rounds both, sees them as equal).
 //!
 //! - **FLIP** (Andersson et al. 2020, LDR-FLIP through the `nv-flip` bindings): the per-pixel
 //!   perceptual difference in `[0, 1]` at the default 67 pixels per degree (a 0.7 m viewing
@@ -139,8 +140,10 @@ fn luma(p: [f32; 3]) -> f64 {
 /// SSIM of one window from its sums (see the module docs).
 pub fn ssim_window(n: f64, sx: f64, sy: f64, sxx: f64, syy: f64, sxy: f64) -> f64 {
     let (mx, my) = (sx / n, sy / n);
-    let vx = (sxx / n - mx * mx).max(0.0);
-    let vy = (syy / n - my * my).max(0.0);
+    // Not clamped: identical windows then give exactly 1 (rounding can make a zero variance
+    // slightly negative, far below C2).
+    let vx = sxx / n - mx * mx;
+    let vy = syy / n - my * my;
     let cov = sxy / n - mx * my;
     ((2.0 * mx * my + SSIM_C1) * (2.0 * cov + SSIM_C2))
         / ((mx * mx + my * my + SSIM_C1) * (vx + vy + SSIM_C2))

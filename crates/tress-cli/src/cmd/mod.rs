@@ -2,8 +2,10 @@
 
 pub(crate) mod bake_ao;
 pub(crate) mod cards;
+pub(crate) mod compare_images;
 pub(crate) mod convert;
 pub(crate) mod generate;
 pub(crate) mod info;
+pub(crate) mod reference;
 pub(crate) mod render;
 pub(crate) mod satf_bake;
