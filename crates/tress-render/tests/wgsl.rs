@@ -33,7 +33,14 @@ fn entry_modules_have_their_entry_points() {
         ("patches/z_prime.wgsl", &["vs_main", "fs_main"]),
         (
             "patches/patch_shade.wgsl",
-            &["vs_main", "fs_main", "fs_opaque", "fs_transparent"],
+            &[
+                "vs_main",
+                "fs_main",
+                "fs_opaque",
+                "fs_transparent",
+                "fs_non_empty",
+                "fs_transparent_non_empty",
+            ],
         ),
         ("patches/patch_head.wgsl", &["vs_main", "fs_main"]),
     ];
