@@ -41,6 +41,7 @@ pub mod gpu;
 pub mod head;
 mod inputs;
 pub mod patches;
+pub mod satf;
 pub mod scene_setup;
 pub mod shaders;
 mod stats;
@@ -56,6 +57,9 @@ pub use head::{HeadGeometry, HeadMesh};
 pub use inputs::{Camera, DirectionalLight, Material};
 pub use patches::{
     PatchFrameInputs, PatchFrameStats, PatchGeometry, PatchRenderer, PatchSettings, RenderScheme,
+};
+pub use satf::{
+    SatfDatabase, SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, SatfSettings,
 };
 pub use scene_setup::PreparedScene;
 pub use stats::{FrameStats, GpuReport, StatsReadback};

@@ -190,6 +190,8 @@ pub use crate::patches::scene::{
     PatchScene, PatchSource, load_patches, patch_settings, patch_source,
 };
 
+pub use crate::satf::scene::{ClusterSource, SatfScene, load_clusters, satf_settings};
+
 /// Read a head mesh from an OBJ file ([`tress_hair::generate::TriMesh::read_obj`]: faces
 /// triangulated, normals from the file or the faces, hostile indices rejected). Errors name the
 /// file.

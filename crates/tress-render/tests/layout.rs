@@ -161,3 +161,92 @@ fn patch_types_match_wgsl() {
     .collect();
     assert_eq!(members, rust);
 }
+
+#[test]
+fn satf_types_match_wgsl() {
+    let text = shaders::compose("satf/index_calc.wgsl").expect("composes");
+    let m = naga::front::wgsl::parse_str(&text).expect("parses");
+    check!(
+        &m,
+        "SatfParams",
+        SatfParams,
+        [
+            f_dif,
+            k_dif,
+            f_spe1,
+            k_spe1,
+            f_spe2,
+            k_spe2,
+            primary_shift,
+            secondary_shift,
+            k_h,
+            k_shadow,
+            feature_weights,
+            k_threshold,
+            angle_weight,
+            shadow_approx,
+            straight,
+            sample_count,
+            view_angles,
+            light_angles,
+            pixels,
+            map_rows,
+            st,
+            su,
+            layers,
+            cluster_count,
+            sector_count,
+            hsv_count,
+            tile_width,
+            tile_height,
+            tiles_per_row,
+            mesh_nt,
+            mesh_nu,
+            light_count,
+            key_light,
+            cluster_shadows,
+            pcf_radius,
+            shadow_map_size,
+            shadow_bias,
+            shadow_opacity,
+            local_shadows,
+            tile_count,
+            head_color,
+            _pad0
+        ]
+    );
+    check!(
+        &m,
+        "SatfSector",
+        SatfSector,
+        [
+            position, cluster, normal, _pad0, s_axis, _pad1, features, _pad2
+        ]
+    );
+    check!(
+        &m,
+        "SectorParams",
+        SectorParams,
+        [features, sample, theta_v, theta_l, _pad0, _pad1]
+    );
+    check!(
+        &m,
+        "HsvRecord",
+        HsvRecord,
+        [
+            sample1, view1, light1, sample2, view2, light2, uniform, _pad
+        ]
+    );
+    check!(
+        &m,
+        "SatfCounters",
+        SatfCounters,
+        [uniform_hsvs, interpolated_hsvs, _pad0, _pad1]
+    );
+    check!(
+        &m,
+        "SatfVertex",
+        SatfVertex,
+        [position, u, tangent, t, normal, tile]
+    );
+}

@@ -30,6 +30,16 @@ fn entry_modules_have_their_entry_points() {
         ("strands/shadow.wgsl", &["vs_strand", "vs_head"]),
         ("strands/ppll_build.wgsl", &["vs_main", "fs_main"]),
         ("strands/ppll_resolve.wgsl", &["vs_main", "fs_main"]),
+        ("satf/index_calc.wgsl", &["cs_sectors", "cs_hsvs"]),
+        ("satf/map_build.wgsl", &["cs_main"]),
+        (
+            "satf/cluster_shadow.wgsl",
+            &["vs_layer", "vs_head", "fs_main"],
+        ),
+        ("satf/s_maps.wgsl", &["cs_main"]),
+        ("satf/lighting.wgsl", &["cs_main"]),
+        ("satf/texture_map.wgsl", &["vs_main", "fs_main"]),
+        ("satf/head.wgsl", &["vs_main", "fs_main"]),
         ("patches/z_prime.wgsl", &["vs_main", "fs_main"]),
         (
             "patches/patch_shade.wgsl",

@@ -233,3 +233,189 @@ pub struct PatchParamsGpu {
 pub fn mat4(m: glam::Mat4) -> Mat4Gpu {
     m.to_cols_array_2d()
 }
+
+/// `struct SatfParams` in `satf/types.wgsl`: the SATF online phase's per-frame constants.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct SatfParams {
+    /// `f_dif` (equation 9).
+    pub f_dif: [f32; 3],
+    /// `k_dif`.
+    pub k_dif: f32,
+    /// `f_speI` (equation 10).
+    pub f_spe1: [f32; 3],
+    /// `k_speI`.
+    pub k_spe1: f32,
+    /// `f_speII` (equation 11).
+    pub f_spe2: [f32; 3],
+    /// `k_speII`.
+    pub k_spe2: f32,
+    /// `s` of equation 10.
+    pub primary_shift: f32,
+    /// `s` of equation 11.
+    pub secondary_shift: f32,
+    /// `k_h`.
+    pub k_h: f32,
+    /// `k_shadow` (equation 12).
+    pub k_shadow: f32,
+    /// Feature weights of the lookup and equation 6.
+    pub feature_weights: [f32; 3],
+    /// `k_threshold` (equation 6).
+    pub k_threshold: f32,
+    /// Weight of an angle difference per radian (equation 6).
+    pub angle_weight: f32,
+    /// 0 exponential, 1 linear equation 12.
+    pub shadow_approx: u32,
+    /// 1: straight reflectance in the re-maps.
+    pub straight: u32,
+    /// Database samples.
+    pub sample_count: u32,
+    /// Database view bins.
+    pub view_angles: u32,
+    /// Database light bins.
+    pub light_angles: u32,
+    /// Pixels per HRIR.
+    pub pixels: u32,
+    /// Map rows per HSV.
+    pub map_rows: u32,
+    /// `s_t`.
+    pub st: u32,
+    /// `s_u`.
+    pub su: u32,
+    /// Shell layers per cluster.
+    pub layers: u32,
+    /// Clusters.
+    pub cluster_count: u32,
+    /// Boundary sectors over all clusters.
+    pub sector_count: u32,
+    /// HSVs over all clusters.
+    pub hsv_count: u32,
+    /// Tile width in texels (`s_u · pixels`).
+    pub tile_width: u32,
+    /// Tile height in texels (`s_t · map_rows`).
+    pub tile_height: u32,
+    /// Tiles per atlas row.
+    pub tiles_per_row: u32,
+    /// Layer mesh quads along `t` per tile.
+    pub mesh_nt: u32,
+    /// Layer mesh quads around `u` per tile.
+    pub mesh_nu: u32,
+    /// Lights this frame.
+    pub light_count: u32,
+    /// The light whose azimuth indexes the database.
+    pub key_light: u32,
+    /// 1: shadow maps between clusters.
+    pub cluster_shadows: u32,
+    /// PCF radius in texels.
+    pub pcf_radius: i32,
+    /// Shadow map edge in texels.
+    pub shadow_map_size: f32,
+    /// Shadow bias in world units.
+    pub shadow_bias: f32,
+    /// Light a shadowing cluster blocks.
+    pub shadow_opacity: f32,
+    /// 1: equation 12 s-maps.
+    pub local_shadows: u32,
+    /// Tiles (clusters · layers).
+    pub tile_count: u32,
+    /// Head color.
+    pub head_color: [f32; 3],
+    /// Padding.
+    pub _pad0: u32,
+}
+
+/// `struct SatfSector` in `satf/types.wgsl`: a boundary generalized sector's anchor, frame and
+/// features (storage array element).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct SatfSector {
+    /// Anchor (middle of the outer arc).
+    pub position: [f32; 3],
+    /// Cluster index.
+    pub cluster: u32,
+    /// Unit outward normal at the anchor.
+    pub normal: [f32; 3],
+    /// Padding.
+    pub _pad0: u32,
+    /// Unit `s` axis (increasing `u`).
+    pub s_axis: [f32; 3],
+    /// Padding.
+    pub _pad1: u32,
+    /// `ρ_feature`.
+    pub features: [f32; 3],
+    /// Padding.
+    pub _pad2: u32,
+}
+
+/// `struct SectorParams` in `satf/types.wgsl`: `Params(b)` of a sector this frame.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct SectorParams {
+    /// `ρ_feature`.
+    pub features: [f32; 3],
+    /// Nearest database sample.
+    pub sample: u32,
+    /// View azimuth.
+    pub theta_v: f32,
+    /// Light azimuth.
+    pub theta_l: f32,
+    /// Padding.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+}
+
+/// `struct HsvRecord` in `satf/types.wgsl`: an HSV's two records this frame.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct HsvRecord {
+    /// Record 1 (`b⊤`) sample.
+    pub sample1: u32,
+    /// Record 1 view bin.
+    pub view1: u32,
+    /// Record 1 light bin.
+    pub light1: u32,
+    /// Record 2 (`b⊥`) sample.
+    pub sample2: u32,
+    /// Record 2 view bin.
+    pub view2: u32,
+    /// Record 2 light bin.
+    pub light2: u32,
+    /// 1 when equation 6 held (both records are the averaged one).
+    pub uniform: u32,
+    /// Padding.
+    pub _pad: u32,
+}
+
+/// `struct SatfVertex` in `satf/types.wgsl`: a layer mesh vertex (vertex buffer, locations 0 to
+/// 5, and storage array element).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct SatfVertex {
+    /// World position on the layer's outer surface.
+    pub position: [f32; 3],
+    /// Texture coordinate around the cluster, `[0, 1]`.
+    pub u: f32,
+    /// Unit hair tangent.
+    pub tangent: [f32; 3],
+    /// Texture coordinate along the cluster, `[0, 1]`.
+    pub t: f32,
+    /// Unit outward normal.
+    pub normal: [f32; 3],
+    /// Tile: `cluster · layers + layer`.
+    pub tile: u32,
+}
+
+/// `struct SatfCounters` in `satf/types.wgsl`: counters of the index calculation.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct SatfCounters {
+    /// HSVs that passed equation 6.
+    pub uniform_hsvs: u32,
+    /// HSVs interpolated by equation 7.
+    pub interpolated_hsvs: u32,
+    /// Padding.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+}

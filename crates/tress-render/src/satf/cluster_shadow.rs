@@ -1,0 +1,243 @@
+//! [`ClusterShadow`], owner of `cluster_shadow.wgsl` (Table 1, "shadowing", with
+//! [`super::SMaps`]).
+
+use wgpu::util::DeviceExt;
+
+use super::SatfGeometry;
+use super::passes::{Slot, group, layout, pipeline_layout};
+use crate::gpu::DEPTH_FORMAT;
+use crate::gpu::types::CameraUniform;
+use crate::head::{HEAD_VERTEX_LAYOUT, HeadGeometry};
+use crate::{GpuContext, MAX_LIGHTS, RenderError, shaders};
+
+/// The layer mesh vertex layout (`SatfVertex`, locations 0 to 5).
+pub(crate) const SATF_VERTEX_LAYOUT: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
+    array_stride: 48,
+    step_mode: wgpu::VertexStepMode::Vertex,
+    attributes: &wgpu::vertex_attr_array![
+        0 => Float32x3, 1 => Float32, 2 => Float32x3, 3 => Float32, 4 => Float32x3, 5 => Uint32
+    ],
+};
+
+/// The per-light shadow maps between clusters: depth and the id of the nearest cluster (index +
+/// 1) or the head, one array layer per light.
+#[derive(Debug)]
+pub(crate) struct ShadowTargets {
+    pub(crate) size: u32,
+    depth_layers: Vec<wgpu::TextureView>,
+    id_layers: Vec<wgpu::TextureView>,
+    pub(crate) depth_array: wgpu::TextureView,
+    pub(crate) ids_array: wgpu::TextureView,
+}
+
+impl ShadowTargets {
+    pub(crate) fn new(ctx: &GpuContext, size: u32) -> Result<Self, RenderError> {
+        if size == 0 || size > ctx.caps.max_texture_2d {
+            return Err(RenderError::Invalid(format!(
+                "satf.shadow_map_size {size} is outside 1..={}",
+                ctx.caps.max_texture_2d
+            )));
+        }
+        ctx.scoped("creating the SATF shadow maps", || {
+            let make = |name: &str, format| {
+                ctx.device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some(&format!("satf/cluster_shadow/{name}")),
+                    size: wgpu::Extent3d {
+                        width: size,
+                        height: size,
+                        depth_or_array_layers: MAX_LIGHTS as u32,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                        | wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                })
+            };
+            let depth = make("depth", DEPTH_FORMAT);
+            let ids = make("ids", wgpu::TextureFormat::R32Uint);
+            let layers = |t: &wgpu::Texture| -> Vec<wgpu::TextureView> {
+                (0..MAX_LIGHTS as u32)
+                    .map(|i| {
+                        t.create_view(&wgpu::TextureViewDescriptor {
+                            dimension: Some(wgpu::TextureViewDimension::D2),
+                            base_array_layer: i,
+                            array_layer_count: Some(1),
+                            ..Default::default()
+                        })
+                    })
+                    .collect()
+            };
+            let array = |t: &wgpu::Texture| {
+                t.create_view(&wgpu::TextureViewDescriptor {
+                    dimension: Some(wgpu::TextureViewDimension::D2Array),
+                    ..Default::default()
+                })
+            };
+            ShadowTargets {
+                size,
+                depth_layers: layers(&depth),
+                id_layers: layers(&ids),
+                depth_array: array(&depth),
+                ids_array: array(&ids),
+            }
+        })
+    }
+}
+
+/// Rasterizes the outermost layer of every cluster and the head from each light (the shadow map
+/// that replaces the paper's shadow volumes between clusters, §6.4).
+#[derive(Debug)]
+pub struct ClusterShadow {
+    layer_pipeline: wgpu::RenderPipeline,
+    head_pipeline: wgpu::RenderPipeline,
+    cameras: Vec<(wgpu::Buffer, wgpu::BindGroup)>,
+}
+
+impl ClusterShadow {
+    pub(crate) fn new(ctx: &GpuContext, params: &wgpu::Buffer) -> Result<Self, RenderError> {
+        let module = shaders::create_module(
+            ctx,
+            "satf/cluster_shadow.wgsl",
+            "satf/cluster_shadow/shader",
+        )?;
+        ctx.scoped("creating the SATF cluster shadow pipelines", || {
+            let group_layout = layout(
+                ctx,
+                "satf/cluster_shadow/layout",
+                wgpu::ShaderStages::VERTEX,
+                &[(0, Slot::Uniform), (1, Slot::Uniform)],
+            );
+            let pl = pipeline_layout(ctx, "satf/cluster_shadow/pipeline-layout", &group_layout);
+            let pipeline = |label: &str, entry: &str, buffer: wgpu::VertexBufferLayout<'static>| {
+                ctx.device
+                    .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                        label: Some(label),
+                        layout: Some(&pl),
+                        vertex: wgpu::VertexState {
+                            module: &module,
+                            entry_point: Some(entry),
+                            compilation_options: Default::default(),
+                            buffers: &[Some(buffer)],
+                        },
+                        primitive: wgpu::PrimitiveState::default(),
+                        depth_stencil: Some(wgpu::DepthStencilState {
+                            format: DEPTH_FORMAT,
+                            depth_write_enabled: Some(true),
+                            depth_compare: Some(wgpu::CompareFunction::Less),
+                            stencil: Default::default(),
+                            bias: Default::default(),
+                        }),
+                        multisample: Default::default(),
+                        fragment: Some(wgpu::FragmentState {
+                            module: &module,
+                            entry_point: Some("fs_main"),
+                            compilation_options: Default::default(),
+                            targets: &[Some(wgpu::TextureFormat::R32Uint.into())],
+                        }),
+                        multiview_mask: None,
+                        cache: None,
+                    })
+            };
+            let layer_pipeline = pipeline(
+                "satf/cluster_shadow/layer-pipeline",
+                "vs_layer",
+                SATF_VERTEX_LAYOUT,
+            );
+            let head_pipeline = pipeline(
+                "satf/cluster_shadow/head-pipeline",
+                "vs_head",
+                HEAD_VERTEX_LAYOUT,
+            );
+            let cameras = (0..MAX_LIGHTS)
+                .map(|i| {
+                    let buffer = ctx
+                        .device
+                        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                            label: Some(&format!("satf/cluster_shadow/camera-{i}")),
+                            contents: bytemuck::bytes_of(&CameraUniform::default()),
+                            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                        });
+                    let bind = group(
+                        ctx,
+                        &format!("satf/cluster_shadow/bind-group-{i}"),
+                        &group_layout,
+                        &[
+                            (0, buffer.as_entire_binding()),
+                            (1, params.as_entire_binding()),
+                        ],
+                    );
+                    (buffer, bind)
+                })
+                .collect();
+            ClusterShadow {
+                layer_pipeline,
+                head_pipeline,
+                cameras,
+            }
+        })
+    }
+
+    /// Record one pass per light camera (at most [`MAX_LIGHTS`]). `timestamps(i, n)` gives the
+    /// timestamp writes of pass `i` of `n`.
+    #[expect(clippy::too_many_arguments, reason = "the pass's inputs, one each")]
+    pub(crate) fn encode<'t>(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &ShadowTargets,
+        light_cameras: &[CameraUniform],
+        geometry: Option<&SatfGeometry>,
+        head: Option<&HeadGeometry>,
+        mut timestamps: impl FnMut(usize, usize) -> Option<wgpu::RenderPassTimestampWrites<'t>>,
+    ) {
+        let n = light_cameras.len().min(MAX_LIGHTS);
+        for (i, cam) in light_cameras.iter().take(n).enumerate() {
+            ctx.queue
+                .write_buffer(&self.cameras[i].0, 0, bytemuck::bytes_of(cam));
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("satf/cluster_shadow/pass"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &targets.id_layers[i],
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &targets.depth_layers[i],
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: timestamps(i, n),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &self.cameras[i].1, &[]);
+            if let Some(head) = head {
+                pass.set_pipeline(&self.head_pipeline);
+                pass.set_vertex_buffer(0, head.vertices.slice(..));
+                pass.set_index_buffer(head.indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..head.index_count, 0, 0..1);
+            }
+            if let Some(g) = geometry.filter(|g| g.layout.clusters > 0) {
+                let l = &g.layout;
+                pass.set_pipeline(&self.layer_pipeline);
+                pass.set_vertex_buffer(0, g.vertices.slice(..));
+                pass.set_index_buffer(g.indices.slice(..), wgpu::IndexFormat::Uint32);
+                for c in 0..l.clusters {
+                    let tile = c * l.layers + l.layers - 1;
+                    let base = (tile * l.vertices_per_tile()) as i32;
+                    pass.draw_indexed(0..l.indices_per_tile(), base, 0..1);
+                }
+            }
+        }
+    }
+}

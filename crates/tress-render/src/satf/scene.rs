@@ -1,0 +1,402 @@
+//! From a [`Scene`] to the SATF technique's inputs: the `[satf]` table ([`satf_settings`]) and
+//! the clusters ([`load_clusters`]).
+//!
+//! Settings start from [`SatfSettings::default`], take the first `[[hair]]` entry's base color as
+//! the hair color (`f_dif`, and `f_speII`, which §6.3 says is the hair's color), then every key
+//! of `[satf]`. Clusters come from one of two sources (`satf.clusters`):
+//!
+//! - `"fit"`: `tress_satf::fit::fit_clusters` on the scene's `[[hair]]` assets (merged), so SATF
+//!   renders the same hair as the other techniques (`[satf.fit]`);
+//! - `"generate"`: `tress_satf::generate::generate_clusters` on the scene's generated head
+//!   (`[satf.generate]`);
+//! - `"auto"` (default): `"fit"` when the scene has hair, else `"generate"`.
+//!
+//! The HRIR database is the file `satf.database` (relative to the scene's folder); the CLI bakes
+//! it there when it is missing, or into its cache folder when no path is given. `[satf.bake]`
+//! gives the settings of such a bake; when any of its keys is set, an existing file must have
+//! been baked with exactly those settings (else the error names the first that differs).
+//!
+//! ```toml
+//! [satf]
+//! database = "hair.satfdb"      # absent: a cache file named by the bake settings
+//! bake = { samples = 2048, angles = 16, pixels = 16, seed = 0, max_strands = 48 }
+//! clusters = "auto"             # auto | fit | generate
+//! fit = { strands_per_cluster = 256, control_points = 8, axis_quantile = 0.95 }
+//! generate = { macro_clusters = 12, clusters_per_macro = 5, strands_per_cluster = 150 }
+//! st = 16                       # equation 3: s_t, s_v, s_u; the innermost core_rings are the core
+//! sv = 4
+//! su = 8
+//! core_rings = 1
+//! map_rows = 4                  # map rows per HSV
+//! mesh_t = 2                    # layer mesh quads per HSV along t, per sector around u
+//! mesh_u = 4
+//! feature_weights = [1.0, 1.0, 1.0]
+//! angle_weight = 2.546          # per radian in equation 6 (16 / 2π)
+//! k_threshold = 0.25            # equation 6
+//! k_dif = 0.8                   # equations 8–11
+//! k_spe1 = 0.25
+//! f_spe1 = [1.0, 1.0, 1.0]
+//! primary_shift = 0.1
+//! k_spe2 = 0.5
+//! secondary_shift = 0.1
+//! k_h = 60.0
+//! k_shadow = 0.6                # equation 12
+//! shadow_approx = "exponential" # or "linear"
+//! local_shadows = true
+//! reflectance = "straight"      # or "premultiplied"
+//! key_light = 0
+//! cluster_shadows = true        # shadow maps between clusters
+//! shadow_map_size = 1024
+//! shadow_opacity = 0.7
+//! shadow_bias = 0.5
+//! pcf_radius = 1
+//! ```
+
+use std::path::PathBuf;
+
+use glam::Vec3;
+use serde::Deserialize;
+use tress_hair::HairAsset;
+use tress_hair::generate::Head;
+use tress_satf::HairVolume;
+use tress_satf::database::BakeSettings;
+use tress_satf::fit::{FitSettings, fit_clusters};
+use tress_satf::generate::{ClusterStyle, generate_clusters};
+use tress_satf::online::ShadowApprox;
+use tress_scene::{HeadSource, Scene};
+
+use super::{Reflectance, SatfSettings};
+use crate::RenderError;
+
+/// `[satf.bake]`.
+#[derive(Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields, default)]
+struct BakeTable {
+    samples: Option<u32>,
+    angles: Option<u32>,
+    view_angles: Option<u32>,
+    light_angles: Option<u32>,
+    pixels: Option<u32>,
+    seed: Option<u64>,
+    max_strands: Option<u32>,
+}
+
+/// `[satf.fit]`.
+#[derive(Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields, default)]
+struct FitTable {
+    strands_per_cluster: Option<u32>,
+    grouping_samples: Option<u32>,
+    fit_samples: Option<u32>,
+    control_points: Option<u32>,
+    profile_control_points: Option<u32>,
+    profile_bins: Option<u32>,
+    axis_quantile: Option<f32>,
+    min_radius: Option<f32>,
+}
+
+/// `[satf.generate]`.
+#[derive(Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields, default)]
+struct GenerateTable {
+    macro_clusters: Option<u32>,
+    clusters_per_macro: Option<u32>,
+    strands_per_cluster: Option<u32>,
+    length: Option<f32>,
+    root_radius: Option<f32>,
+    tip_radius: Option<f32>,
+    aspect: Option<f32>,
+    twist: Option<f32>,
+    strand_jitter: Option<f32>,
+    samples: Option<u32>,
+    seed: Option<u64>,
+}
+
+/// The `[satf]` table: every key optional, unknown keys are errors naming key and line.
+#[derive(Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields, default)]
+struct SatfTable {
+    database: Option<PathBuf>,
+    bake: BakeTable,
+    clusters: Option<String>,
+    fit: FitTable,
+    generate: GenerateTable,
+    st: Option<u32>,
+    sv: Option<u32>,
+    su: Option<u32>,
+    core_rings: Option<u32>,
+    map_rows: Option<u32>,
+    mesh_t: Option<u32>,
+    mesh_u: Option<u32>,
+    feature_weights: Option<[f32; 3]>,
+    angle_weight: Option<f32>,
+    k_threshold: Option<f32>,
+    k_dif: Option<f32>,
+    f_dif: Option<Vec3>,
+    k_spe1: Option<f32>,
+    f_spe1: Option<Vec3>,
+    primary_shift: Option<f32>,
+    k_spe2: Option<f32>,
+    f_spe2: Option<Vec3>,
+    secondary_shift: Option<f32>,
+    k_h: Option<f32>,
+    k_shadow: Option<f32>,
+    shadow_approx: Option<String>,
+    local_shadows: Option<bool>,
+    reflectance: Option<String>,
+    key_light: Option<u32>,
+    cluster_shadows: Option<bool>,
+    shadow_map_size: Option<u32>,
+    shadow_opacity: Option<f32>,
+    shadow_bias: Option<f32>,
+    pcf_radius: Option<u32>,
+}
+
+/// Where the clusters come from (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ClusterSource {
+    /// Fit clusters to the scene's strands.
+    Fit(FitSettings),
+    /// Generate a clustered style on the scene's head.
+    Generate(ClusterStyle),
+}
+
+/// The SATF technique's part of a scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SatfScene {
+    /// Renderer and geometry settings.
+    pub settings: SatfSettings,
+    /// The database file (resolved against the scene's folder), or `None` for the cache.
+    pub database: Option<PathBuf>,
+    /// Settings of a bake of the database ([`BakeSettings::default`] with `[satf.bake]`).
+    pub bake: BakeSettings,
+    /// Whether `[satf.bake]` set any key: then an existing database must match [`Self::bake`].
+    pub bake_explicit: bool,
+    /// Where the clusters come from (`auto` resolved against the scene's hair).
+    pub clusters: ClusterSource,
+}
+
+fn invalid(e: impl std::fmt::Display) -> RenderError {
+    RenderError::Invalid(e.to_string())
+}
+
+/// The `[satf]` table over the defaults (see the module docs). Errors name the key.
+pub fn satf_settings(scene: &Scene) -> Result<SatfScene, RenderError> {
+    let t: SatfTable = scene.technique_settings("satf").map_err(invalid)?;
+    let mut s = SatfSettings::default();
+    if let Some(m) = scene.hair.first().map(|h| &h.material) {
+        s.lighting.f_dif = m.base_color;
+        s.lighting.f_spe2 = m.base_color;
+    }
+    macro_rules! set {
+        ($src:expr => $dst:expr, $($f:ident),*) => { $( if let Some(v) = $src.$f { $dst.$f = v; } )* };
+    }
+    set!(t => s.sampling, st, sv, su, core_rings);
+    set!(
+        t => s,
+        map_rows,
+        mesh_t,
+        mesh_u,
+        k_shadow,
+        local_shadows,
+        key_light,
+        cluster_shadows,
+        shadow_map_size,
+        shadow_opacity,
+        shadow_bias,
+        pcf_radius
+    );
+    set!(t => s.lookup, feature_weights, angle_weight, k_threshold);
+    set!(
+        t => s.lighting,
+        k_dif,
+        f_dif,
+        k_spe1,
+        f_spe1,
+        primary_shift,
+        k_spe2,
+        f_spe2,
+        secondary_shift,
+        k_h
+    );
+    if let Some(a) = &t.shadow_approx {
+        s.shadow_approx = match a.as_str() {
+            "exponential" => ShadowApprox::Exponential,
+            "linear" => ShadowApprox::Linear,
+            other => {
+                return Err(invalid(format!(
+                    "satf.shadow_approx must be \"exponential\" or \"linear\", got \"{other}\""
+                )));
+            }
+        };
+    }
+    if let Some(r) = &t.reflectance {
+        s.reflectance = r.parse::<Reflectance>()?;
+    }
+    s.validate()?;
+
+    let b = &t.bake;
+    let mut bake = BakeSettings::default();
+    set!(b => bake, samples, seed, max_strands);
+    if let Some(m) = b.angles {
+        bake.hrir.view_angles = m;
+        bake.hrir.light_angles = m;
+    }
+    set!(b => bake.hrir, view_angles, light_angles, pixels);
+    bake.validate()
+        .map_err(|e| invalid(format!("satf.bake: {e}")))?;
+    let bake_explicit = b.samples.is_some()
+        || b.angles.is_some()
+        || b.view_angles.is_some()
+        || b.light_angles.is_some()
+        || b.pixels.is_some()
+        || b.seed.is_some()
+        || b.max_strands.is_some();
+
+    let mut fit = FitSettings::default();
+    let f = &t.fit;
+    set!(
+        f => fit,
+        strands_per_cluster,
+        grouping_samples,
+        fit_samples,
+        control_points,
+        profile_control_points,
+        profile_bins,
+        axis_quantile,
+        min_radius
+    );
+    fit.validate()
+        .map_err(|e| invalid(format!("satf.fit: {e}")))?;
+    let mut style = ClusterStyle::default();
+    let g = &t.generate;
+    set!(
+        g => style,
+        macro_clusters,
+        clusters_per_macro,
+        strands_per_cluster,
+        length,
+        root_radius,
+        tip_radius,
+        aspect,
+        twist,
+        strand_jitter,
+        samples,
+        seed
+    );
+    style
+        .validate()
+        .map_err(|e| invalid(format!("satf.generate: {e}")))?;
+    let clusters = match t.clusters.as_deref().unwrap_or("auto") {
+        "fit" => ClusterSource::Fit(fit),
+        "generate" => ClusterSource::Generate(style),
+        "auto" if scene.hair.is_empty() => ClusterSource::Generate(style),
+        "auto" => ClusterSource::Fit(fit),
+        other => {
+            return Err(invalid(format!(
+                "satf.clusters must be \"auto\", \"fit\" or \"generate\", got \"{other}\""
+            )));
+        }
+    };
+    Ok(SatfScene {
+        settings: s,
+        database: t.database.map(|p| scene.resolve(&p)),
+        bake,
+        bake_explicit,
+        clusters,
+    })
+}
+
+/// The clusters of a scene: fitted to `hair` (the scene's merged assets) or generated on its
+/// head, as `satf.clusters` says.
+pub fn load_clusters(
+    scene: &Scene,
+    satf: &SatfScene,
+    hair: Option<&HairAsset>,
+) -> Result<HairVolume, RenderError> {
+    match satf.clusters {
+        ClusterSource::Fit(fit) => {
+            let hair = hair.ok_or_else(|| {
+                invalid("satf.clusters = \"fit\" needs [[hair]] in the scene (or use \"generate\")")
+            })?;
+            fit_clusters(hair, &fit).map_err(|e| invalid(format!("satf: fitting clusters: {e}")))
+        }
+        ClusterSource::Generate(style) => {
+            let head = match scene.head_source() {
+                HeadSource::Generated(h) => h,
+                _ => Head::default(),
+            };
+            generate_clusters(&head, &style)
+                .map_err(|e| invalid(format!("satf: generating clusters: {e}")))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table_overrides_defaults_and_names_bad_keys() {
+        let scene = Scene::from_str(
+            "[satf]\nst = 8\nk_shadow = 0.3\nshadow_approx = \"linear\"\n\
+             bake = { samples = 64 }\nclusters = \"generate\"\n",
+            "/scenes",
+        )
+        .unwrap();
+        let s = satf_settings(&scene).unwrap();
+        assert_eq!(s.settings.sampling.st, 8);
+        assert_eq!(s.settings.k_shadow, 0.3);
+        assert_eq!(s.settings.shadow_approx, ShadowApprox::Linear);
+        assert_eq!(s.bake.samples, 64);
+        assert!(s.bake_explicit);
+        assert!(matches!(s.clusters, ClusterSource::Generate(_)));
+        assert_eq!(s.database, None);
+
+        let scene = Scene::from_str("[satf]\ndatabase = \"db.satfdb\"\n", "/scenes").unwrap();
+        let s = satf_settings(&scene).unwrap();
+        assert_eq!(s.database, Some(PathBuf::from("/scenes/db.satfdb")));
+        assert!(!s.bake_explicit);
+        // No hair: auto generates.
+        assert!(matches!(s.clusters, ClusterSource::Generate(_)));
+
+        let bad = Scene::from_str("\n[satf]\nkk = 1\n", ".").unwrap();
+        let err = satf_settings(&bad).unwrap_err().to_string();
+        assert!(err.contains("kk") && err.contains("line 3"), "{err}");
+        let bad = Scene::from_str("[satf]\nmap_rows = 0\n", ".").unwrap();
+        assert!(
+            satf_settings(&bad)
+                .unwrap_err()
+                .to_string()
+                .contains("map_rows")
+        );
+        let bad = Scene::from_str("[satf]\nclusters = \"x\"\n", ".").unwrap();
+        assert!(
+            satf_settings(&bad)
+                .unwrap_err()
+                .to_string()
+                .contains("satf.clusters")
+        );
+        let bad = Scene::from_str("[satf]\nbake = { samples = 0 }\n", ".").unwrap();
+        assert!(
+            satf_settings(&bad)
+                .unwrap_err()
+                .to_string()
+                .contains("satf.bake")
+        );
+    }
+
+    #[test]
+    fn hair_color_is_the_diffuse_and_secondary_color() {
+        let scene = Scene::from_str(
+            "[[hair]]\ngenerator = { style = \"straight\", strands = 10 }\n\
+             [hair.material]\nbase_color = [0.5, 0.25, 0.125]\n",
+            ".",
+        )
+        .unwrap();
+        let s = satf_settings(&scene).unwrap();
+        assert_eq!(s.settings.lighting.f_dif, Vec3::new(0.5, 0.25, 0.125));
+        assert_eq!(s.settings.lighting.f_spe2, Vec3::new(0.5, 0.25, 0.125));
+        assert!(matches!(s.clusters, ClusterSource::Fit(_)));
+    }
+}

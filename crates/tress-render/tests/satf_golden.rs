@@ -1,0 +1,206 @@
+//! Golden images of the SATF technique (design rule 7): generated clusters on a head and clusters
+//! fitted to a strand asset, rendered headlessly with a small baked database and compared with
+//! the committed PNGs under `tests/golden/` by mean FLIP error. Re-bless with
+//! `TRESS_BLESS=1 cargo test -p tress-render --test satf_golden`. On a mismatch the rendered image
+//! and the FLIP map are written to `CARGO_TARGET_TMPDIR/golden/`.
+
+mod common;
+
+use std::path::PathBuf;
+use std::sync::OnceLock;
+
+use glam::Vec3;
+use tress_hair::generate::Head;
+use tress_render::satf::{Reflectance, SatfSettings};
+use tress_render::{
+    COLOR_FORMAT, Camera, DirectionalLight, HeadGeometry, HeadMesh, OffscreenTargets, SatfDatabase,
+    SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, TargetFormats, read_texture,
+};
+use tress_satf::database::{BakeSettings, Database, bake};
+use tress_satf::generate::{ClusterStyle, generate_clusters};
+use tress_satf::hrir::HrirSettings;
+use tress_satf::{HairVolume, ShellSampling};
+
+const SIZE: u32 = 160;
+/// Mean FLIP error allowed (lavapipe reproduces its own images almost exactly).
+const MAX_MEAN_FLIP: f32 = 0.03;
+
+/// A small database, baked once per test binary.
+fn database() -> &'static Database {
+    static DB: OnceLock<Database> = OnceLock::new();
+    DB.get_or_init(|| {
+        let s = BakeSettings {
+            samples: 96,
+            hrir: HrirSettings {
+                pixels: 8,
+                view_angles: 8,
+                light_angles: 8,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        bake(&s, |_, _| {}).expect("bake")
+    })
+}
+
+fn settings() -> SatfSettings {
+    SatfSettings {
+        sampling: ShellSampling {
+            st: 8,
+            sv: 4,
+            su: 6,
+            core_rings: 1,
+        },
+        map_rows: 3,
+        shadow_map_size: 256,
+        ..Default::default()
+    }
+}
+
+fn clusters() -> HairVolume {
+    let style = ClusterStyle {
+        macro_clusters: 4,
+        clusters_per_macro: 3,
+        strands_per_cluster: 80,
+        samples: 12,
+        ..Default::default()
+    };
+    generate_clusters(&Head::default(), &style).expect("clusters")
+}
+
+fn key_light() -> DirectionalLight {
+    DirectionalLight {
+        direction: Vec3::new(-0.5, -0.7, -0.5),
+        color: Vec3::ONE,
+        intensity: 2.0,
+    }
+}
+
+fn render(settings: SatfSettings, volume: &HairVolume) -> (image::RgbImage, SatfFrameStats) {
+    let ctx = common::gpu().expect("checked by the caller");
+    let mut r = SatfRenderer::new(&ctx, TargetFormats::default(), settings).expect("renderer");
+    let db = SatfDatabase::new(&ctx, database()).expect("database");
+    let geometry = SatfGeometry::new(&ctx, volume, &db, &settings).expect("geometry");
+    let head = Head::default();
+    let mesh = head.mesh(32);
+    let head = HeadGeometry::new(
+        &ctx,
+        &HeadMesh {
+            positions: mesh.positions,
+            normals: mesh.normals,
+            indices: mesh.indices,
+        },
+    )
+    .expect("head");
+    let t = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
+    let camera = Camera::look_at(
+        Vec3::new(38.0, 8.0, 52.0),
+        Vec3::new(0.0, -6.0, 0.0),
+        Vec3::Y,
+        45f32.to_radians(),
+        1.0,
+        200.0,
+        [SIZE, SIZE],
+    );
+    let lights = [key_light()];
+    let inputs = SatfFrameInputs {
+        camera,
+        lights: &lights,
+        ambient: Vec3::splat(0.08),
+        head_color: Vec3::new(0.6, 0.45, 0.35),
+        clusters: Some(&geometry),
+        database: &db,
+        head: Some(&head),
+        clear: Some(wgpu::Color {
+            r: 0.15,
+            g: 0.16,
+            b: 0.18,
+            a: 1.0,
+        }),
+    };
+    let stats = r.render(&ctx, &t.targets(), &inputs).expect("frame");
+    let img = read_texture(&ctx, &t.color).expect("readback").to_srgb8();
+    (image::DynamicImage::ImageRgba8(img).to_rgb8(), stats)
+}
+
+fn check(name: &str, image: &image::RgbImage) {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/golden")
+        .join(format!("{name}.png"));
+    if std::env::var("TRESS_BLESS").is_ok_and(|v| v == "1") {
+        image.save(&path).expect("write golden");
+        eprintln!("blessed {}", path.display());
+        return;
+    }
+    let golden = image::open(&path)
+        .unwrap_or_else(|e| panic!("{}: {e}; render it with TRESS_BLESS=1", path.display()))
+        .to_rgb8();
+    assert_eq!(golden.dimensions(), image.dimensions(), "{name}: size");
+    let flip = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(golden.width(), golden.height(), &golden),
+        nv_flip::FlipImageRgb8::with_data(image.width(), image.height(), image),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    let mean = nv_flip::FlipPool::from_image(&flip).mean();
+    if mean > MAX_MEAN_FLIP {
+        let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("golden");
+        std::fs::create_dir_all(&dir).expect("tmp dir");
+        image
+            .save(dir.join(format!("{name}.png")))
+            .expect("write render");
+        let map = flip.apply_color_lut(&nv_flip::magma_lut());
+        image::RgbImage::from_raw(map.width(), map.height(), map.to_vec())
+            .expect("flip map")
+            .save(dir.join(format!("{name}.flip.png")))
+            .expect("write flip map");
+        panic!(
+            "{name}: mean FLIP {mean:.4} > {MAX_MEAN_FLIP}; see {}",
+            dir.display()
+        );
+    }
+    eprintln!("{name}: mean FLIP {mean:.5}");
+}
+
+#[test]
+fn generated_clusters_on_a_head() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let volume = clusters();
+    let (img, stats) = render(settings(), &volume);
+    assert_eq!(stats.clusters, 12);
+    assert_eq!(stats.hsvs, 12 * 8 * 3 * 6);
+    assert_eq!(stats.uniform_hsvs + stats.interpolated_hsvs, stats.hsvs);
+    check("satf_generated", &img);
+}
+
+/// Clusters fitted to a generated straight style (the path that lets SATF render any strand
+/// asset), with the paper's literal readings: premultiplied reflectance and the linear form of
+/// equation 12, and no shadows between clusters.
+#[test]
+fn fitted_clusters_literal_settings() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let style = tress_hair::generate::Style::Straight;
+    let params = tress_hair::generate::StyleParams {
+        strands: 1500,
+        vertices: 12,
+        ..style.default_params()
+    };
+    let hair = tress_hair::generate::generate(style, &params).expect("hair");
+    let fit = tress_satf::fit::FitSettings {
+        strands_per_cluster: 160,
+        ..Default::default()
+    };
+    let volume = tress_satf::fit::fit_clusters(&hair, &fit).expect("fit");
+    let settings = SatfSettings {
+        reflectance: Reflectance::Premultiplied,
+        shadow_approx: tress_satf::online::ShadowApprox::Linear,
+        cluster_shadows: false,
+        ..settings()
+    };
+    let (img, stats) = render(settings, &volume);
+    assert!(stats.clusters >= 10, "{} clusters", stats.clusters);
+    check("satf_fitted_literal", &img);
+}
