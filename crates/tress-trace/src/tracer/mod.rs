@@ -14,7 +14,7 @@ use tress_shading::{HairLighting, HairSample, KajiyaKay, hair_lighting, kajiya_k
 use crate::bvh::Visit;
 use crate::geometry::{Ray, intersect_triangle};
 use crate::sampling::{
-    cosine_hemisphere, hash_unit, lattice_generator, lattice_point, strand_random,
+    cosine_hemisphere, hash_unit, hash2, lattice_generator, lattice_point, strand_random,
 };
 use crate::{Aov, Image, StrandWidth, TraceError, TraceSettings};
 use setup::{GpuStrands, PinholeCamera, Primitives, Segment, Shading, TRIANGLE, Triangle};
@@ -23,8 +23,15 @@ pub use setup::{HEAD_SUBDIVISIONS, SceneGeometry};
 /// Head mesh color (linear RGB): the value of `tress_render::Material::default().head_color`,
 /// which the scene file does not set. Mirrored here because this crate has no GPU dependency.
 pub const HEAD_COLOR: Vec3 = Vec3::new(0.55, 0.40, 0.33);
-/// A secondary ray whose transmittance falls below this counts as blocked.
+/// A secondary ray whose transmittance falls below this counts as blocked (exact mode, tests).
 const CUTOFF: f32 = 1e-4;
+/// Below this transmittance, shadow and AO rays play Russian roulette (see
+/// [`Tracer::transmittance`]).
+const ROULETTE: f32 = 0.25;
+/// Hash streams of a camera sample's key: the transparency decisions of the camera ray use the
+/// primitive index (below 2^32); shadow and AO rays' roulette keys start here.
+const SHADOW_STREAM: u64 = 1 << 40;
+const AO_STREAM: u64 = 1 << 41;
 
 /// Where a secondary ray starts, so the primitives it starts on are not hit.
 #[derive(Clone, Copy, Debug)]
@@ -317,7 +324,7 @@ impl Tracer {
                     vertex: seg.vertex,
                 };
                 let ao = if want_ao {
-                    self.ambient_occlusion(p, n, origin, ao_points, rays)
+                    self.ambient_occlusion(p, n, origin, ao_points, Some(key), rays)
                 } else {
                     1.0
                 };
@@ -327,10 +334,14 @@ impl Tracer {
                 });
                 let mut color = Vec3::splat(self.settings.ambient) * base * ao;
                 let (mut vis_sum, mut weight) = (0.0, 0.0);
-                for &(l, radiance) in &self.lights {
+                for (light, &(l, radiance)) in self.lights.iter().enumerate() {
                     let vis = if want_shadow && self.settings.shadows {
                         *rays += 1;
-                        self.transmittance(&Ray::new(p, l, 0.0, f32::INFINITY), origin)
+                        self.transmittance(
+                            &Ray::new(p, l, 0.0, f32::INFINITY),
+                            origin,
+                            Some(hash2(key, SHADOW_STREAM + light as u64)),
+                        )
                     } else {
                         1.0
                     };
@@ -377,17 +388,21 @@ impl Tracer {
                 let start = p + geo * eps;
                 let origin = Origin::Triangle(id);
                 let ao = if want_ao {
-                    self.ambient_occlusion(start, geo, origin, ao_points, rays)
+                    self.ambient_occlusion(start, geo, origin, ao_points, Some(key), rays)
                 } else {
                     1.0
                 };
                 let mut light = Vec3::splat(self.settings.ambient) * ao;
                 let (mut vis_sum, mut weight) = (0.0, 0.0);
-                for &(l, radiance) in &self.lights {
+                for (index, &(l, radiance)) in self.lights.iter().enumerate() {
                     let n_dot_l = n.dot(l).max(0.0);
                     let vis = if want_shadow && self.settings.shadows && n_dot_l > 0.0 {
                         *rays += 1;
-                        self.transmittance(&Ray::new(start, l, 0.0, f32::INFINITY), origin)
+                        self.transmittance(
+                            &Ray::new(start, l, 0.0, f32::INFINITY),
+                            origin,
+                            Some(hash2(key, SHADOW_STREAM + index as u64)),
+                        )
                     } else if n_dot_l > 0.0 || !want_shadow {
                         1.0
                     } else {
@@ -427,13 +442,16 @@ impl Tracer {
         n: Vec3,
         origin: Origin,
         points: &mut dyn Iterator<Item = (f32, f32)>,
+        roulette: Option<u64>,
         rays: &mut u64,
     ) -> f32 {
         let mut sum = 0.0;
         let mut count = 0;
         for (u0, u1) in points {
             let dir = cosine_hemisphere(n, u0, u1);
-            sum += self.transmittance(&Ray::new(p, dir, 0.0, self.settings.ao_radius), origin);
+            let ray = Ray::new(p, dir, 0.0, self.settings.ao_radius);
+            let key = roulette.map(|k| hash2(k, AO_STREAM + count));
+            sum += self.transmittance(&ray, origin, key);
             count += 1;
         }
         *rays += count;
@@ -442,8 +460,15 @@ impl Tracer {
 
     /// The fraction of light that gets through along `ray`: the product of `1 - alpha` over the
     /// strands it enters, 0 at any triangle (the head is opaque).
-    fn transmittance(&self, ray: &Ray, origin: Origin) -> f32 {
+    ///
+    /// With a `roulette` key the result is an unbiased estimate instead: once the product falls
+    /// below [`ROULETTE`] the ray survives with probability `product / ROULETTE` and goes on with
+    /// the product set to `ROULETTE`, else it returns 0. The expected value is unchanged, and a
+    /// ray inside dense hair stops after a few strands instead of the ~10 it takes an alpha-0.6
+    /// product to fall below [`CUTOFF`] (rays in hair visit many boxes per strand they meet).
+    fn transmittance(&self, ray: &Ray, origin: Origin, roulette: Option<u64>) -> f32 {
         let mut left = 1.0f32;
+        let mut crossings = 0u64;
         let p = &self.prims;
         p.bvh.for_each_hit(ray, |pos| {
             let r = p.refs[pos];
@@ -462,6 +487,17 @@ impl Tracer {
                     && r.owns(s)
                 {
                     left *= 1.0 - seg.alpha_at(s).clamp(0.0, 1.0);
+                }
+            }
+            if let Some(key) = roulette
+                && left < ROULETTE
+                && left > 0.0
+            {
+                crossings += 1;
+                if hash_unit(key, crossings) * ROULETTE < left {
+                    left = ROULETTE;
+                } else {
+                    left = 0.0;
                 }
             }
             if left < CUTOFF {

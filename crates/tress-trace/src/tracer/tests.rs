@@ -105,22 +105,22 @@ fn transmittance_through_n_strands_is_one_minus_alpha_to_the_n() {
         let tr = tracer(&sc, hair, None, &TraceSettings::default());
         let none = Origin::Triangle(u32::MAX);
         let up = Ray::new(Vec3::new(0.2, 0.0, 0.0), Vec3::Z, 0.0, f32::INFINITY);
-        let got = tr.transmittance(&up, none);
+        let got = tr.transmittance(&up, none, None);
         let expected = 0.7f32.powi(n as i32);
         assert!((got - expected).abs() < 1e-6, "n {n}: {got} vs {expected}");
         // A ray beside the strands (radius 0.05) crosses none; a shorter one only the first two.
         let beside = Ray::new(Vec3::new(0.0, 0.06, 0.0), Vec3::Z, 0.0, f32::INFINITY);
-        assert_eq!(tr.transmittance(&beside, none), 1.0);
+        assert_eq!(tr.transmittance(&beside, none, None), 1.0);
         let short = Ray::new(Vec3::new(0.2, 0.0, 0.0), Vec3::Z, 0.0, 2.5);
         let first_two = 0.7f32.powi(n.min(2) as i32);
-        assert!((tr.transmittance(&short, none) - first_two).abs() < 1e-6);
+        assert!((tr.transmittance(&short, none, None) - first_two).abs() < 1e-6);
         if n > 0 {
             // Starting on strand 0 skips it.
             let own = Origin::Strand {
                 strand: 0,
                 vertex: 0,
             };
-            let got = tr.transmittance(&up, own);
+            let got = tr.transmittance(&up, own, None);
             assert!((got - 0.7f32.powi(n as i32 - 1)).abs() < 1e-6);
         }
     }
@@ -142,13 +142,13 @@ fn transparency_scales_alpha_and_the_head_blocks() {
     let none = Origin::Triangle(u32::MAX);
     let up = Ray::new(Vec3::ZERO, Vec3::Z, 0.0, f32::INFINITY);
     assert_eq!(
-        tr.transmittance(&up, none),
+        tr.transmittance(&up, none, None),
         0.0,
         "the quad at z = 2 is opaque"
     );
     let up = Ray::new(Vec3::ZERO, Vec3::Z, 0.0, 1.5);
     assert!(
-        (tr.transmittance(&up, none) - 0.6).abs() < 1e-6,
+        (tr.transmittance(&up, none, None) - 0.6).abs() < 1e-6,
         "alpha 0.8 · 0.5"
     );
 }
@@ -167,6 +167,7 @@ fn ao_is_one_on_an_open_plane_and_zero_in_a_closed_box() {
         Vec3::Z,
         Origin::Triangle(0),
         &mut ao_points(32),
+        None,
         &mut rays,
     );
     assert_eq!(ao, 1.0);
@@ -178,6 +179,7 @@ fn ao_is_one_on_an_open_plane_and_zero_in_a_closed_box() {
             n,
             Origin::Triangle(u32::MAX),
             &mut ao_points(16),
+            None,
             &mut rays,
         );
         assert_eq!(ao, 0.0);
@@ -202,6 +204,7 @@ fn ao_under_a_ceiling_is_h_over_r_squared() {
             Vec3::Z,
             Origin::Triangle(u32::MAX),
             &mut ao_points(64),
+            None,
             &mut rays,
         );
         let expected = (h / r).powi(2);
@@ -466,8 +469,41 @@ fn a_ray_through_a_joint_or_across_pieces_crosses_the_strand_once() {
             Vec3::new(-0.3, 0.1, 0.9).normalize(),
         ] {
             let origin = Vec3::new(x, 0.0, 1.0) - dir * 3.0;
-            let t = tr.transmittance(&Ray::new(origin, dir, 0.0, f32::INFINITY), none);
+            let t = tr.transmittance(&Ray::new(origin, dir, 0.0, f32::INFINITY), none, None);
             assert!((t - 0.5).abs() < 1e-6, "x {x}, dir {dir}: {t}");
         }
     }
+}
+
+#[test]
+fn russian_roulette_keeps_the_expected_transmittance() {
+    // Twelve strands of alpha 0.3: the exact product is 0.7^12 = 0.0138; roulette (which
+    // starts below 0.25) returns 0 or at least 0.25 times what is left, averaging to it.
+    let pairs: Vec<(Vec3, Vec3)> = (0..12)
+        .map(|k| {
+            let z = 1.0 + k as f32;
+            (Vec3::new(-1.0, 0.0, z), Vec3::new(1.0, 0.0, z))
+        })
+        .collect();
+    let sc = scene(8, "[strands]\nalpha = 0.3\n");
+    let tr = tracer(
+        &sc,
+        Some(strands(&pairs, 0.1)),
+        None,
+        &TraceSettings::default(),
+    );
+    let ray = Ray::new(Vec3::ZERO, Vec3::Z, 0.0, f32::INFINITY);
+    let none = Origin::Triangle(u32::MAX);
+    let n = 40_000;
+    let mut sum = 0.0f64;
+    let mut zeros = 0;
+    for key in 0..n {
+        let t = tr.transmittance(&ray, none, Some(crate::sampling::hash2(99, key)));
+        sum += f64::from(t);
+        zeros += usize::from(t == 0.0);
+    }
+    let mean = sum / n as f64;
+    let exact = 0.7f64.powi(12);
+    assert!((mean - exact).abs() < 0.0015, "{mean} vs {exact}");
+    assert!(zeros > n as usize / 2, "most rays stop early");
 }
