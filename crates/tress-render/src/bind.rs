@@ -3,8 +3,8 @@
 //! | group | layout | contents |
 //! | --- | --- | --- |
 //! | 0 | `view` | camera uniform, strand params uniform |
-//! | 1 | `lighting` | lights, material, one shadow map per light (head and strand shading) |
-//! | 2 | `strands` | strand vertices and segments (vertex pulling) |
+//! | 1 | `lighting` | lights, material, one shadow map per light, the hair volume (texture, sampler, grid, params: volume shadows and AO) |
+//! | 2 | `strands` | strand vertices and segments (vertex pulling; the voxelizer's compute passes) |
 //! | 3 | pass-specific | e.g. the PPLL buffers of the build pass |
 
 use crate::MAX_LIGHTS;
@@ -18,6 +18,8 @@ pub(crate) struct Layouts {
 }
 
 const VF: wgpu::ShaderStages = wgpu::ShaderStages::VERTEX_FRAGMENT;
+const VERTEX_COMPUTE: wgpu::ShaderStages =
+    wgpu::ShaderStages::VERTEX.union(wgpu::ShaderStages::COMPUTE);
 
 pub(crate) fn uniform(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
@@ -65,6 +67,34 @@ pub(crate) fn depth_texture(
     }
 }
 
+pub(crate) fn texture_3d(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+            view_dimension: wgpu::TextureViewDimension::D3,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+pub(crate) fn filtering_sampler(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+        count: None,
+    }
+}
+
 impl Layouts {
     pub(crate) fn new(device: &wgpu::Device) -> Self {
         let view = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -78,6 +108,14 @@ impl Layouts {
         entries.extend(
             (0..MAX_LIGHTS as u32).map(|i| depth_texture(2 + i, wgpu::ShaderStages::FRAGMENT)),
         );
+        // The hair volume (`common/lighting.wgsl`): texture, sampler, grid, volume params.
+        let v = 2 + MAX_LIGHTS as u32;
+        entries.extend([
+            texture_3d(v, wgpu::ShaderStages::FRAGMENT),
+            filtering_sampler(v + 1, wgpu::ShaderStages::FRAGMENT),
+            uniform(v + 2, VF),
+            uniform(v + 3, VF),
+        ]);
         let lighting = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("frame/lighting/layout"),
             entries: &entries,
@@ -85,8 +123,8 @@ impl Layouts {
         let strands = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("strands/geometry/layout"),
             entries: &[
-                storage(0, wgpu::ShaderStages::VERTEX, true),
-                storage(1, wgpu::ShaderStages::VERTEX, true),
+                storage(0, VERTEX_COMPUTE, true),
+                storage(1, VERTEX_COMPUTE, true),
             ],
         });
         Layouts {

@@ -1,26 +1,40 @@
 //! A whole frame, top to bottom: [`Renderer::render`].
 //!
 //! ```text
-//! uniforms     camera, strand params, lights (+ their shadow cameras), material
-//! shadow       per light: head + hair depth from the light          (ShadowMap, §3.4)
+//! plan         technique + LOD factor f: strands (f < 1), volume (f > 0), voxelize?
+//! uniforms     camera, strand params, lights (+ their shadow cameras), material, volume params
+//! voxelize     hair AABB, grid, counters, resolve into the 3D volume (Voxelizer, §3.3)
+//! shadow       per light: head + hair depth from the light (ADSM only) (ShadowMap, §3.4)
 //! head         clear (optional), opaque head with depth writes      (HeadPass)
 //! ppll_build   strands -> shaded, coverage-weighted fragments lists (PpllBuild, §3.1-3.2)
 //! ppll_resolve k nearest sorted + order-independent tail, over head (PpllResolve, §3.2)
-//! readback     PPLL counters + timestamps -> FrameStats; grow the pool if fragments dropped
+//! raymarch     hair box -> isosurface, shaded                       (Raymarch, §3.3-3.4)
+//! lod_blend    0 < f < 1: strands and volume layers mixed over head (LodBlend, §3, §4)
+//! readback     PPLL + voxel counters + timestamps -> FrameStats; grow the pool if needed
 //! ```
+//!
+//! At `f = 0` the strand passes draw straight into the target, at `f = 1` the raymarch does; only
+//! in between do both draw into scratch layers that `lod_blend` mixes (see [`crate::lod`]).
 
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
 use crate::bind::Layouts;
-use crate::gpu::types::{CameraUniform, LightsUniform, MaterialUniform, StrandParams};
+use crate::gpu::types::{
+    self, CameraUniform, LightsUniform, MaterialUniform, StrandParams, VolumeParams,
+};
 use crate::gpu::{GpuTimer, TargetFormats, Targets};
 use crate::head::{HeadGeometry, HeadPass};
-use crate::stats::{FrameStats, ReadbackRing, SlotInfo, StatsReadback};
+use crate::lod::{FramePlan, HybridSettings, LodBlend, LodLayers, Technique};
+use crate::stats::{FrameStats, ReadbackRing, SlotInfo, StatsReadback, VolumeFrame};
 use crate::strands::ppll_build::PpllBuildInputs;
 use crate::strands::{
     PpllBuild, PpllPool, PpllResolve, ShadowMap, StrandGeometry, StrandSettings, ThicknessFade,
     ppll,
+};
+use crate::volume::raymarch::RaymarchInputs;
+use crate::volume::{
+    Raymarch, ShadowMode, VolumeBinding, VolumeSettings, Voxelizer, volume_resources,
 };
 use crate::{Camera, DirectionalLight, GpuContext, MAX_LIGHTS, Material, RenderError};
 
@@ -29,10 +43,13 @@ pub const MAX_ATTEMPTS: u32 = 4;
 
 /// Names of the timed passes, in frame order.
 pub const PASS_NAMES: &[&str] = &[
+    "volume/voxelize",
     "strands/shadow",
     "head",
     "strands/ppll_build",
     "strands/ppll_resolve",
+    "volume/raymarch",
+    "lod/blend",
 ];
 
 /// Everything a frame draws. Plain data: the application owns the geometry and the targets.
@@ -54,11 +71,22 @@ pub struct FrameInputs<'a> {
     pub clear: Option<wgpu::Color>,
 }
 
-/// The strand renderer with its head pass: renders into caller-provided targets.
+/// The hair renderer with its head pass: the strand rasterizer, the volume raymarcher and their
+/// level-of-detail blend ([`Technique`]); renders into caller-provided targets.
 #[derive(Debug)]
 pub struct Renderer {
     formats: TargetFormats,
     settings: StrandSettings,
+    technique: Technique,
+    volume_settings: VolumeSettings,
+    hybrid: HybridSettings,
+    volume_params: wgpu::Buffer,
+    volume_sampler: wgpu::Sampler,
+    fallback_volume: (wgpu::TextureView, wgpu::Buffer),
+    voxelizer: Option<Voxelizer>,
+    raymarch: Raymarch,
+    lod_blend: LodBlend,
+    layers: Option<LodLayers>,
     layouts: Layouts,
     camera: wgpu::Buffer,
     params: wgpu::Buffer,
@@ -134,11 +162,34 @@ impl Renderer {
             })
         })?;
         let shadow = ShadowMap::new(ctx, &layouts, &params, settings.shadow_map_size)?;
-        let lighting_group = Self::lighting_group(ctx, &layouts, &lights, &material, &shadow)?;
+        let (volume_params, volume_sampler, fallback_volume) = volume_resources(ctx)?;
+        let lighting_group = Self::lighting_group(
+            ctx,
+            &layouts,
+            &lights,
+            &material,
+            &shadow,
+            VolumeBinding {
+                view: &fallback_volume.0,
+                sampler: &volume_sampler,
+                grid: &fallback_volume.1,
+                params: &volume_params,
+            },
+        )?;
         let timer = GpuTimer::new(ctx, "frame", PASS_NAMES);
         let ring = ReadbackRing::new(ctx, &timer, 3);
         Ok(Renderer {
             formats,
+            technique: Technique::Strands,
+            volume_settings: VolumeSettings::default(),
+            hybrid: HybridSettings::default(),
+            raymarch: Raymarch::new(ctx, &layouts, formats.color)?,
+            lod_blend: LodBlend::new(ctx, formats.color)?,
+            volume_params,
+            volume_sampler,
+            fallback_volume,
+            voxelizer: None,
+            layers: None,
             head_pass: HeadPass::new(ctx, &layouts, formats.color)?,
             build: PpllBuild::new(ctx, &layouts)?,
             resolve: PpllResolve::new(ctx, &layouts, formats.color)?,
@@ -166,6 +217,7 @@ impl Renderer {
         lights: &wgpu::Buffer,
         material: &wgpu::Buffer,
         shadow: &ShadowMap,
+        volume: VolumeBinding<'_>,
     ) -> Result<wgpu::BindGroup, RenderError> {
         let mut entries = vec![
             wgpu::BindGroupEntry {
@@ -183,6 +235,25 @@ impl Renderer {
                 resource: wgpu::BindingResource::TextureView(v),
             }
         }));
+        let v = 2 + MAX_LIGHTS as u32;
+        entries.extend([
+            wgpu::BindGroupEntry {
+                binding: v,
+                resource: wgpu::BindingResource::TextureView(volume.view),
+            },
+            wgpu::BindGroupEntry {
+                binding: v + 1,
+                resource: wgpu::BindingResource::Sampler(volume.sampler),
+            },
+            wgpu::BindGroupEntry {
+                binding: v + 2,
+                resource: volume.grid.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: v + 3,
+                resource: volume.params.as_entire_binding(),
+            },
+        ]);
         ctx.scoped("creating the lighting bind group", || {
             ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("frame/lighting/bind-group"),
@@ -215,11 +286,9 @@ impl Renderer {
     ) -> Result<(), RenderError> {
         settings.validate()?;
         if settings.shadow_map_size != self.shadow.size() {
-            let shadow =
+            self.shadow =
                 ShadowMap::new(ctx, &self.layouts, &self.params, settings.shadow_map_size)?;
-            self.lighting_group =
-                Self::lighting_group(ctx, &self.layouts, &self.lights, &self.material, &shadow)?;
-            self.shadow = shadow;
+            self.rebuild_lighting_group(ctx)?;
         }
         if settings.ppll_nodes_per_pixel != self.settings.ppll_nodes_per_pixel
             || settings.ppll_max_bytes != self.settings.ppll_max_bytes
@@ -228,6 +297,78 @@ impl Renderer {
             self.grown_capacity = None;
         }
         self.settings = settings;
+        Ok(())
+    }
+
+    /// The technique that draws the hair (default [`Technique::Strands`]).
+    pub fn technique(&self) -> Technique {
+        self.technique
+    }
+
+    /// Choose the technique that draws the hair.
+    pub fn set_technique(&mut self, technique: Technique) {
+        self.technique = technique;
+    }
+
+    /// The volume settings.
+    pub fn volume_settings(&self) -> &VolumeSettings {
+        &self.volume_settings
+    }
+
+    /// Change the volume settings (validated). A new resolution reallocates the volume at the
+    /// next frame that needs it.
+    pub fn set_volume_settings(
+        &mut self,
+        ctx: &GpuContext,
+        settings: VolumeSettings,
+    ) -> Result<(), RenderError> {
+        settings.validate()?;
+        if let Some(v) = &mut self.voxelizer
+            && v.resolution() != settings.resolution
+        {
+            v.set_resolution(ctx, settings.resolution)?;
+            self.volume_settings = settings;
+            return self.rebuild_lighting_group(ctx);
+        }
+        self.volume_settings = settings;
+        Ok(())
+    }
+
+    /// The hybrid's settings.
+    pub fn hybrid_settings(&self) -> &HybridSettings {
+        &self.hybrid
+    }
+
+    /// Change the hybrid's settings (validated).
+    pub fn set_hybrid_settings(&mut self, settings: HybridSettings) -> Result<(), RenderError> {
+        settings.validate()?;
+        self.hybrid = settings;
+        Ok(())
+    }
+
+    /// The voxelizer, once a frame has needed the volume (for tools: its texture, a readback).
+    pub fn voxelizer(&self) -> Option<&Voxelizer> {
+        self.voxelizer.as_ref()
+    }
+
+    fn rebuild_lighting_group(&mut self, ctx: &GpuContext) -> Result<(), RenderError> {
+        let (view, grid) = match &self.voxelizer {
+            Some(v) => (v.view(), v.grid_uniform()),
+            None => (&self.fallback_volume.0, &self.fallback_volume.1),
+        };
+        self.lighting_group = Self::lighting_group(
+            ctx,
+            &self.layouts,
+            &self.lights,
+            &self.material,
+            &self.shadow,
+            VolumeBinding {
+                view,
+                sampler: &self.volume_sampler,
+                grid,
+                params: &self.volume_params,
+            },
+        )?;
         Ok(())
     }
 
@@ -276,7 +417,7 @@ impl Renderer {
         let mut attempts = 0;
         loop {
             attempts += 1;
-            let (frame, slot) = self.submit(ctx, targets, inputs, size)?;
+            let (frame, slot, plan) = self.submit(ctx, targets, inputs, size)?;
             let capacity = pool_capacity(self.pool.as_ref());
             if let (StatsReadback::Wait, Some(i)) = (self.stats_readback, slot) {
                 report = self.ring.wait(ctx, &self.timer, i)?.or(report);
@@ -300,38 +441,70 @@ impl Renderer {
                 }),
                 attempts,
                 gpu: report,
+                lod: plan.lod,
+                volume: self
+                    .voxelizer
+                    .as_ref()
+                    .filter(|_| plan.voxelize)
+                    .map(|v| VolumeFrame {
+                        resolution: v.resolution(),
+                        bytes: v.bytes(),
+                    }),
             });
         }
     }
 
-    /// Encode and submit one frame; returns its index and its readback slot.
+    /// Encode and submit one frame; returns its index, its readback slot and its plan.
     fn submit(
         &mut self,
         ctx: &GpuContext,
         targets: &Targets<'_>,
         inputs: &FrameInputs<'_>,
         size: [u32; 2],
-    ) -> Result<(u64, Option<usize>), RenderError> {
-        // ---- PPLL buffers for this target size and capacity
-        let cap_nodes = PpllPool::cap_nodes(ctx, self.settings.ppll_max_bytes);
-        let pixels = u64::from(size[0]) * u64::from(size[1]);
-        let capacity = self.grown_capacity.unwrap_or_else(|| {
-            ppll::initial_capacity(pixels, self.settings.ppll_nodes_per_pixel, cap_nodes)
-        });
-        if self
-            .pool
-            .as_ref()
-            .is_none_or(|p| p.size != size || p.capacity != capacity)
-        {
-            self.pool = None;
-            self.pool = Some(PpllPool::new(ctx, size, capacity)?);
+    ) -> Result<(u64, Option<usize>, FramePlan), RenderError> {
+        // ---- plan: what draws the hair this frame (crate::lod)
+        let hair = inputs.hair.filter(|h| h.segment_count() > 0);
+        let plan = FramePlan::new(
+            self.technique,
+            &self.hybrid,
+            &self.settings,
+            &self.volume_settings,
+            inputs,
+            hair.is_some(),
+        );
+        if plan.voxelize && self.voxelizer.is_none() {
+            self.voxelizer = Some(Voxelizer::with_params(
+                ctx,
+                &self.layouts,
+                self.volume_settings.resolution,
+                &self.volume_params,
+            )?);
+            self.rebuild_lighting_group(ctx)?;
         }
-        let Some(pool) = self.pool.as_ref() else {
-            return Err(RenderError::Invalid("PPLL pool missing".into()));
-        };
+        if plan.blend() && self.layers.as_ref().is_none_or(|l| l.size != size) {
+            self.layers = None;
+            self.layers = Some(LodLayers::new(ctx, size, self.formats.color)?);
+        }
+
+        // ---- PPLL buffers for this target size and capacity (only when strands draw)
+        if plan.strands {
+            let cap_nodes = PpllPool::cap_nodes(ctx, self.settings.ppll_max_bytes);
+            let pixels = u64::from(size[0]) * u64::from(size[1]);
+            let capacity = self.grown_capacity.unwrap_or_else(|| {
+                ppll::initial_capacity(pixels, self.settings.ppll_nodes_per_pixel, cap_nodes)
+            });
+            if self
+                .pool
+                .as_ref()
+                .is_none_or(|p| p.size != size || p.capacity != capacity)
+            {
+                self.pool = None;
+                self.pool = Some(PpllPool::new(ctx, size, capacity)?);
+            }
+        }
+        let pool = self.pool.as_ref().filter(|_| plan.strands);
 
         // ---- uniforms
-        let hair = inputs.hair.filter(|h| h.segment_count() > 0);
         let bounds = match (inputs.hair.map(|h| h.bounds), inputs.head.map(|h| h.bounds)) {
             (Some(a), Some(b)) => Some(union_sphere(a, b)),
             (a, b) => a.or(b),
@@ -349,9 +522,10 @@ impl Renderer {
             light_cameras.push(cam.uniform());
         }
         let mut params = self.settings.params();
-        params.node_capacity = pool.capacity;
+        params.node_capacity = pool.map_or(1, |p| p.capacity);
         params.target_width = size[0];
         params.light_count = lights.count;
+        params.shadows = u32::from(plan.shadows);
         params.thickness_fade = match (self.settings.thickness_fade, hair) {
             (ThicknessFade::Tip, Some(h)) if h.max_thickness() > 0.0 => 1,
             (ThicknessFade::Projected, Some(h)) if h.has_thickness() => 2,
@@ -360,6 +534,14 @@ impl Renderer {
         params.thickness_ref = hair.map_or(1.0, |h| h.max_thickness().max(1e-20));
         params.vertex_color = u32::from(hair.is_some_and(|h| h.has_color()));
         params.hair_center = inputs.hair.map_or([0.0; 3], |h| h.bounds.0.to_array());
+        let mut volume = match hair {
+            Some(h) if plan.voxelize => Voxelizer::params(&self.volume_settings, h),
+            _ => VolumeParams::default(),
+        };
+        volume.world_from_clip = types::mat4(inputs.camera.clip_from_world().inverse());
+        volume.shading = params.shading;
+        volume.raster_shadow_mode = u32::from(plan.shadow_mode == ShadowMode::Volume);
+        volume.raster_ao = u32::from(plan.raster_ao);
         let q = &ctx.queue;
         q.write_buffer(
             &self.camera,
@@ -373,14 +555,20 @@ impl Renderer {
             0,
             bytemuck::bytes_of(&inputs.material.uniform()),
         );
+        q.write_buffer(&self.volume_params, 0, bytemuck::bytes_of(&volume));
 
         let frame = self.frame;
         self.frame += 1;
         let slot = self.ring.idle();
-        let shadows = self.settings.shadows && !light_cameras.is_empty() && bounds.is_some();
+        let adsm = plan.shadows
+            && plan.shadow_mode == ShadowMode::Adsm
+            && !light_cameras.is_empty()
+            && bounds.is_some();
         let timer = &mut self.timer;
         let (shadow, head_pass, build, resolve) =
             (&self.shadow, &self.head_pass, &self.build, &self.resolve);
+        let (raymarch, lod_blend, layers) = (&self.raymarch, &self.lod_blend, &self.layers);
+        let voxelizer = self.voxelizer.as_ref().filter(|_| plan.voxelize);
         let (view, lighting) = (&self.view_group, &self.lighting_group);
         let ring = &mut self.ring;
         ctx.scoped("rendering a frame", || {
@@ -390,8 +578,16 @@ impl Renderer {
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("frame/encoder"),
                 });
-            // ---- shadow maps (§3.4)
-            if shadows {
+            // ---- voxelization: AABB, grid, counters, volume texture (§3.3)
+            if let (Some(v), Some(h)) = (voxelizer, hair) {
+                v.encode(
+                    &mut encoder,
+                    h,
+                    timer.compute_writes("volume/voxelize", true, true),
+                );
+            }
+            // ---- shadow maps (§3.4, ADSM)
+            if adsm {
                 shadow.encode(ctx, &mut encoder, timer, &light_cameras, hair, inputs.head);
             }
             // ---- opaque head, depth written
@@ -429,8 +625,13 @@ impl Renderer {
                     head_pass.draw(&mut pass, head);
                 }
             }
+            // ---- the LOD layers, when both renderers draw
+            let layers = layers.as_ref().filter(|_| plan.blend());
+            if let Some(l) = layers {
+                l.clear(&mut encoder);
+            }
             // ---- strands: PPLL build and resolve (§3.1-3.2)
-            if let Some(geometry) = hair {
+            if let (Some(geometry), Some(pool)) = (hair, pool) {
                 let inputs = PpllBuildInputs {
                     view,
                     lighting,
@@ -449,20 +650,50 @@ impl Renderer {
                     &mut encoder,
                     view,
                     pool,
-                    targets.color,
+                    layers.map_or(targets.color, |l| &l.strands),
                     timer.render_writes("strands/ppll_resolve", true, true),
+                );
+            }
+            // ---- volume: raymarch to the isosurface (§3.3-3.4)
+            if let (Some(v), true) = (voxelizer, plan.volume) {
+                let inputs = RaymarchInputs {
+                    view,
+                    lighting,
+                    depth: targets.depth,
+                    occupancy: v.occupancy(),
+                    color: layers.map_or(targets.color, |l| &l.volume),
+                };
+                raymarch.encode(
+                    ctx,
+                    &mut encoder,
+                    &inputs,
+                    timer.render_writes("volume/raymarch", true, true),
+                );
+            }
+            // ---- level-of-detail blend of the two layers (§3, §4)
+            if let Some(l) = layers {
+                lod_blend.encode(
+                    ctx,
+                    &mut encoder,
+                    l,
+                    &plan,
+                    targets.color,
+                    timer.render_writes("lod/blend", true, true),
                 );
             }
             // ---- statistics readback
             if let Some(i) = slot {
                 let info = SlotInfo {
                     frame,
-                    capacity: pool.capacity,
+                    capacity: pool.map_or(0, |p| p.capacity),
                     head_bytes: PpllPool::head_bytes(size),
-                    counters: hair.is_some(),
+                    counters: pool.is_some() && hair.is_some(),
                 };
-                let counters = hair.map(|_| &pool.counters);
+                let counters = pool.filter(|_| hair.is_some()).map(|p| &p.counters);
                 ring.record(i, &mut encoder, counters, timer, info);
+                if let Some(v) = voxelizer {
+                    ring.record_volume(i, &mut encoder, v.stats_buffer());
+                }
             }
             ctx.queue.submit([encoder.finish()]);
             if let Some(i) = slot {
@@ -470,7 +701,7 @@ impl Renderer {
             }
         })?;
 
-        Ok((frame, slot))
+        Ok((frame, slot, plan))
     }
 
     fn grow_pool_from(&mut self, ctx: &GpuContext, report: Option<&crate::stats::GpuReport>) {

@@ -5,7 +5,8 @@
 //! [`Renderer::upload_hair`] and a head with [`HeadGeometry::new`], then calls
 //! [`Renderer::render`] every frame with its [`Targets`] and [`FrameInputs`]. `frame.rs` shows a
 //! whole frame top to bottom; the strand technique lives in [`strands`], the polygon-patch
-//! technique in [`patches`] ([`PatchRenderer`]).
+//! technique in [`patches`] ([`PatchRenderer`]), the volume technique in [`volume`] and the
+//! strands/volume level-of-detail blend in [`lod`] ([`Renderer::set_technique`]).
 //!
 //! ```no_run
 //! use tress_render::*;
@@ -40,12 +41,14 @@ mod frame;
 pub mod gpu;
 pub mod head;
 mod inputs;
+pub mod lod;
 pub mod patches;
 pub mod satf;
 pub mod scene_setup;
 pub mod shaders;
 mod stats;
 pub mod strands;
+pub mod volume;
 
 pub use error::RenderError;
 pub use frame::{FrameInputs, MAX_ATTEMPTS, PASS_NAMES, Renderer};
@@ -62,8 +65,10 @@ pub use satf::{
     SatfDatabase, SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, SatfSettings,
 };
 pub use scene_setup::PreparedScene;
-pub use stats::{FrameStats, GpuReport, StatsReadback};
+pub use lod::{HybridSettings, Technique, Transition};
+pub use stats::{FrameStats, GpuReport, StatsReadback, VolumeFrame};
 pub use strands::{PpllStats, Shading, StrandGeometry, StrandSettings, ThicknessFade};
+pub use volume::{ShadowMode, VolumeSettings, VolumeStats, VoxelizeMode, Voxelizer};
 
 /// The wgpu version this crate is built on, for callers that need its types.
 pub use wgpu;

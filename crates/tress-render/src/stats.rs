@@ -4,9 +4,10 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU8, Ordering};
 
-use crate::gpu::types::PpllCounters;
+use crate::gpu::types::{PpllCounters, VoxelStats};
 use crate::gpu::{GpuTimer, Timings};
 use crate::strands::PpllStats;
+use crate::volume::VolumeStats;
 use crate::{GpuContext, RenderError};
 
 /// When `render` returns GPU results.
@@ -28,6 +29,8 @@ pub struct GpuReport {
     pub frame: u64,
     /// PPLL occupancy (zero counts when no strands were drawn).
     pub ppll: PpllStats,
+    /// Voxel counter occupancy, when the frame voxelized the hair.
+    pub volume: Option<VolumeStats>,
     /// Per-pass GPU times.
     pub timings: Timings,
 }
@@ -50,6 +53,19 @@ pub struct FrameStats {
     pub attempts: u32,
     /// GPU results: this frame's with [`StatsReadback::Wait`], the newest available otherwise.
     pub gpu: Option<GpuReport>,
+    /// The level-of-detail blend factor of the frame (0 strands only, 1 volume only).
+    pub lod: f32,
+    /// The hair volume, when the frame voxelized the hair.
+    pub volume: Option<VolumeFrame>,
+}
+
+/// The hair volume of a frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct VolumeFrame {
+    /// Voxels per axis.
+    pub resolution: u32,
+    /// Bytes of voxel counters, volume texture and occupancy blocks.
+    pub bytes: u64,
 }
 
 const IDLE: u8 = 0;
@@ -68,6 +84,7 @@ struct Slot {
     capacity: u32,
     head_bytes: u64,
     counters: bool,
+    volume: bool,
     written: Vec<bool>,
 }
 
@@ -87,6 +104,9 @@ pub(crate) struct SlotInfo {
     pub(crate) counters: bool,
 }
 
+/// Offset of the voxel statistics in a slot (after the 16 bytes of PPLL counters).
+const VOLUME_OFFSET: u64 = 16;
+
 impl ReadbackRing {
     pub(crate) fn new(ctx: &GpuContext, timer: &GpuTimer, count: usize) -> Self {
         let size = TIMESTAMP_OFFSET + timer.resolved_bytes().max(8);
@@ -103,6 +123,7 @@ impl ReadbackRing {
                 capacity: 0,
                 head_bytes: 0,
                 counters: false,
+                volume: false,
                 written: Vec::new(),
             })
             .collect();
@@ -129,12 +150,25 @@ impl ReadbackRing {
         if let Some(c) = counters {
             encoder.copy_buffer_to_buffer(c, 0, &slot.buffer, 0, Some(16));
         }
+        slot.volume = false;
         timer.resolve(encoder, &slot.buffer, TIMESTAMP_OFFSET);
         slot.frame = info.frame;
         slot.capacity = info.capacity;
         slot.head_bytes = info.head_bytes;
         slot.counters = info.counters;
         slot.written = timer.written();
+    }
+
+    /// Also copy the voxel counters' statistics into slot `i` (after [`ReadbackRing::record`]).
+    pub(crate) fn record_volume(
+        &mut self,
+        i: usize,
+        encoder: &mut wgpu::CommandEncoder,
+        stats: &wgpu::Buffer,
+    ) {
+        let slot = &mut self.slots[i];
+        encoder.copy_buffer_to_buffer(stats, 0, &slot.buffer, VOLUME_OFFSET, Some(16));
+        slot.volume = true;
     }
 
     /// Request the mapping of slot `i` (after the frame was submitted).
@@ -172,9 +206,18 @@ impl ReadbackRing {
                     } else {
                         PpllCounters::default()
                     };
+                    let volume = slot.volume.then(|| {
+                        let o = VOLUME_OFFSET as usize;
+                        let v = bytemuck::pod_read_unaligned::<VoxelStats>(&bytes[o..o + 16]);
+                        VolumeStats {
+                            deposits: v.deposits,
+                            dropped: v.dropped,
+                        }
+                    });
                     let report = GpuReport {
                         frame: slot.frame,
                         ppll: PpllStats::from_counters(counters, slot.capacity, slot.head_bytes),
+                        volume,
                         timings: timer.parse(&bytes[TIMESTAMP_OFFSET as usize..], &slot.written),
                     };
                     if newest.as_ref().is_none_or(|n| n.frame < report.frame) {

@@ -163,6 +163,78 @@ fn patch_types_match_wgsl() {
 }
 
 #[test]
+fn volume_types_match_wgsl() {
+    for module in [
+        "volume/volume_bounds.wgsl",
+        "volume/voxelize.wgsl",
+        "volume/raymarch.wgsl",
+    ] {
+        let text = shaders::compose(module).expect("composes");
+        let m = naga::front::wgsl::parse_str(&text).expect("parses");
+        check!(
+            &m,
+            "VolumeGrid",
+            VolumeGrid,
+            [
+                origin, scale, bounds_min, voxel_size, bounds_max, res, occupied, _pad0, _pad1,
+                _pad2
+            ]
+        );
+        check!(
+            &m,
+            "VolumeParams",
+            VolumeParams,
+            [
+                world_from_clip,
+                steps,
+                iso,
+                skip_empty,
+                shading,
+                raster_shadow_mode,
+                shadow_alpha,
+                shadow_step,
+                shadow_offset,
+                raster_ao,
+                ao_radius,
+                ao_samples,
+                ao_intensity,
+                voxelize,
+                reconstruction_radius,
+                capacity,
+                mean_segment_length,
+                segment_count,
+                vertex_count,
+                occupancy_res,
+                resolution,
+                march_shadows,
+                march_ao,
+                _pad0,
+                _pad1
+            ]
+        );
+    }
+    let text = shaders::compose("volume/voxelize.wgsl").expect("composes");
+    let m = naga::front::wgsl::parse_str(&text).expect("parses");
+    check!(
+        &m,
+        "VoxelStats",
+        VoxelStats,
+        [deposits, dropped, _pad0, _pad1]
+    );
+    let text = shaders::compose("volume/volume_bounds.wgsl").expect("composes");
+    let m = naga::front::wgsl::parse_str(&text).expect("parses");
+    check!(&m, "BoundsKeys", BoundsKeys, [lo, hi]);
+    let text = shaders::compose("lod_blend.wgsl").expect("composes");
+    let m = naga::front::wgsl::parse_str(&text).expect("parses");
+    check!(
+        &m,
+        "LodParams",
+        LodParams,
+        [factor, transition, _pad0, _pad1]
+    );
+}
+
+#[test]
 fn satf_types_match_wgsl() {
     let text = shaders::compose("satf/index_calc.wgsl").expect("composes");
     let m = naga::front::wgsl::parse_str(&text).expect("parses");

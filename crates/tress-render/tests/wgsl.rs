@@ -40,6 +40,11 @@ fn entry_modules_have_their_entry_points() {
         ("satf/lighting.wgsl", &["cs_main"]),
         ("satf/texture_map.wgsl", &["vs_main", "fs_main"]),
         ("satf/head.wgsl", &["vs_main", "fs_main"]),
+        ("volume/volume_bounds.wgsl", &["clear", "reduce", "fit"]),
+        ("volume/voxelize.wgsl", &["voxelize"]),
+        ("volume/volume_resolve.wgsl", &["resolve"]),
+        ("volume/raymarch.wgsl", &["vs_main", "fs_main"]),
+        ("lod_blend.wgsl", &["vs_main", "fs_main"]),
         ("patches/z_prime.wgsl", &["vs_main", "fs_main"]),
         (
             "patches/patch_shade.wgsl",

@@ -57,6 +57,8 @@ pub mod coverage;
 pub mod kajiya_kay;
 pub mod scheuermann;
 pub mod shadow;
+pub mod volume;
+pub mod voxelize;
 #[cfg(test)]
 mod test_util;
 
@@ -72,6 +74,14 @@ pub use scheuermann::{
 pub use shadow::{
     DepthMap, MAX_PCF_RADIUS, ShadingError, adsm_depth, adsm_pcf, adsm_visibility,
     strand_visibility,
+};
+pub use volume::{
+    DensityVolume, VolumeSizeError, ao_offset, density_gradient, density_normal, dither_threshold,
+    fake_transparency_alpha, lod_factor, ray_box, volume_ao, volume_shadow_strands,
+};
+pub use voxelize::{
+    VoxelCounts, VoxelGrid, VoxelValue, VoxelizeMode, dequantize_tangent, quantize_tangent,
+    voxel_hash, voxelize,
 };
 
 /// `sqrt(1 - c²)`, the sine of the angle whose cosine is `c`, clamped so a `|c|` rounded slightly

@@ -8,7 +8,7 @@ use crate::GpuContext;
 /// GPU time of one pass.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PassTiming {
-    /// Pass name (`strands/shadow`, `head`, `strands/ppll_build`, `strands/ppll_resolve`).
+    /// Pass name (one of `PASS_NAMES`: `strands/shadow`, `head`, `strands/ppll_build`, ...).
     pub name: &'static str,
     /// Milliseconds between the pass's begin and end timestamps.
     pub ms: f64,
@@ -122,6 +122,25 @@ impl GpuTimer {
             self.written[i] = true;
         }
         Some(wgpu::RenderPassTimestampWrites {
+            query_set: set,
+            beginning_of_pass_write_index: begin.then_some(2 * i as u32),
+            end_of_pass_write_index: end.then_some(2 * i as u32 + 1),
+        })
+    }
+
+    /// Timestamp writes for a compute pass (`begin`/`end` as in [`GpuTimer::render_writes`]).
+    pub(crate) fn compute_writes(
+        &mut self,
+        name: &str,
+        begin: bool,
+        end: bool,
+    ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        let i = self.index(name)?;
+        let (set, _) = self.queries.as_ref()?;
+        if end {
+            self.written[i] = true;
+        }
+        Some(wgpu::ComputePassTimestampWrites {
             query_set: set,
             beginning_of_pass_write_index: begin.then_some(2 * i as u32),
             end_of_pass_write_index: end.then_some(2 * i as u32 + 1),

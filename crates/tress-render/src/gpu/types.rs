@@ -234,6 +234,128 @@ pub fn mat4(m: glam::Mat4) -> Mat4Gpu {
     m.to_cols_array_2d()
 }
 
+/// `struct VolumeGrid` in `shaders/common/volume.wgsl`: the voxel grid fitted to the hair on the
+/// GPU every frame (twin of `tress_shading::VoxelGrid`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct VolumeGrid {
+    /// World position of the corner of voxel `(0, 0, 0)`.
+    pub origin: [f32; 3],
+    /// Voxels per world unit.
+    pub scale: f32,
+    /// The hair's bounding box, minimum corner.
+    pub bounds_min: [f32; 3],
+    /// World length of a voxel edge.
+    pub voxel_size: f32,
+    /// The hair's bounding box, maximum corner.
+    pub bounds_max: [f32; 3],
+    /// Voxels per axis.
+    pub res: u32,
+    /// 1 when the hair has vertices.
+    pub occupied: u32,
+    /// Padding.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+    /// Padding.
+    pub _pad2: u32,
+}
+
+/// `struct VolumeParams` in `shaders/common/volume.wgsl`: per-frame settings of the volume passes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct VolumeParams {
+    /// World from clip of the frame's camera.
+    pub world_from_clip: Mat4Gpu,
+    /// Raymarching steps across the box diagonal.
+    pub steps: u32,
+    /// Strands to a solid isosurface.
+    pub iso: f32,
+    /// 1: skip empty occupancy blocks.
+    pub skip_empty: u32,
+    /// Shading model (0 Kajiya-Kay, 1 Scheuermann).
+    pub shading: u32,
+    /// Shadows of the rasterizer and the head: 0 ADSM, 1 volume.
+    pub raster_shadow_mode: u32,
+    /// Opacity of one occluding strand (volume shadows and AO).
+    pub shadow_alpha: f32,
+    /// Shadow march step in voxels.
+    pub shadow_step: f32,
+    /// Shadow march start in voxels.
+    pub shadow_offset: f32,
+    /// 1: the rasterizer multiplies its color by the volume AO.
+    pub raster_ao: u32,
+    /// AO ball radius in world units.
+    pub ao_radius: f32,
+    /// AO samples.
+    pub ao_samples: u32,
+    /// AO intensity.
+    pub ao_intensity: f32,
+    /// 0 vertices, 1 segments.
+    pub voxelize: u32,
+    /// Reconstruction filter radius (vertices mode).
+    pub reconstruction_radius: u32,
+    /// Per-voxel counter capacity.
+    pub capacity: u32,
+    /// Mean segment length in world units.
+    pub mean_segment_length: f32,
+    /// Segments of the hair.
+    pub segment_count: u32,
+    /// Vertices of the hair.
+    pub vertex_count: u32,
+    /// Occupancy blocks per axis.
+    pub occupancy_res: u32,
+    /// Voxels per axis.
+    pub resolution: u32,
+    /// 1: volume shadows in the raymarcher.
+    pub march_shadows: u32,
+    /// 1: AO in the raymarcher.
+    pub march_ao: u32,
+    /// Padding.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+}
+
+/// `struct VoxelStats` in `volume/voxelize.wgsl`: the voxel counters' occupancy.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct VoxelStats {
+    /// Samples deposited (accepted and dropped).
+    pub deposits: u32,
+    /// Samples dropped at a full counter.
+    pub dropped: u32,
+    /// Padding.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+}
+
+/// `struct BoundsKeys` in `volume/volume_bounds.wgsl`: the hair's box as order-preserving integer
+/// keys of its float coordinates.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct BoundsKeys {
+    /// Keys of the minimum corner.
+    pub lo: [u32; 3],
+    /// Keys of the maximum corner.
+    pub hi: [u32; 3],
+}
+
+/// `struct LodParams` in `lod_blend.wgsl`: the level-of-detail blend of one frame.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct LodParams {
+    /// Blend factor: 0 strands, 1 volume.
+    pub factor: f32,
+    /// 0 alpha blend, 1 dither.
+    pub transition: u32,
+    /// Padding.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+}
+
 /// `struct SatfParams` in `satf/types.wgsl`: the SATF online phase's per-frame constants.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]

@@ -24,6 +24,7 @@ pub const SOURCES: &[(&str, &str)] = &[
     ("common/shading.wgsl", include_str!("common/shading.wgsl")),
     ("common/ppll.wgsl", include_str!("common/ppll.wgsl")),
     ("common/strand.wgsl", include_str!("common/strand.wgsl")),
+    ("common/volume.wgsl", include_str!("common/volume.wgsl")),
     (
         "common/fullscreen.wgsl",
         include_str!("common/fullscreen.wgsl"),
@@ -74,6 +75,23 @@ pub const SOURCES: &[(&str, &str)] = &[
     ),
     ("satf/head.wgsl", include_str!("../satf/head.wgsl")),
     (
+        "volume/volume_bounds.wgsl",
+        include_str!("../volume/volume_bounds.wgsl"),
+    ),
+    (
+        "volume/voxelize.wgsl",
+        include_str!("../volume/voxelize.wgsl"),
+    ),
+    (
+        "volume/volume_resolve.wgsl",
+        include_str!("../volume/volume_resolve.wgsl"),
+    ),
+    (
+        "volume/raymarch.wgsl",
+        include_str!("../volume/raymarch.wgsl"),
+    ),
+    ("lod_blend.wgsl", include_str!("../lod_blend.wgsl")),
+    (
         "patches/geometry.wgsl",
         include_str!("../patches/geometry.wgsl"),
     ),
@@ -104,6 +122,11 @@ pub const ENTRY_MODULES: &[&str] = &[
     "satf/lighting.wgsl",
     "satf/texture_map.wgsl",
     "satf/head.wgsl",
+    "volume/volume_bounds.wgsl",
+    "volume/voxelize.wgsl",
+    "volume/volume_resolve.wgsl",
+    "volume/raymarch.wgsl",
+    "lod_blend.wgsl",
     "patches/z_prime.wgsl",
     "patches/patch_shade.wgsl",
     "patches/patch_head.wgsl",

@@ -13,6 +13,9 @@ use crate::{GpuContext, RenderError};
 #[derive(Debug)]
 pub struct StrandGeometry {
     pub(crate) bind_group: wgpu::BindGroup,
+    vertices: wgpu::Buffer,
+    vertex_count: u32,
+    mean_segment_length: f32,
     segments: u32,
     strands: u32,
     has_thickness: bool,
@@ -44,6 +47,18 @@ pub(crate) fn build_arrays(asset: &HairAsset) -> (Vec<StrandVertex>, Vec<[u32; 2
         segments.extend((r.start..r.end.saturating_sub(1)).map(|v| [v as u32, s as u32]));
     }
     (vertices, segments)
+}
+
+/// Mean length of the asset's segments (0 without segments).
+fn mean_segment_length(asset: &HairAsset) -> f32 {
+    let (mut sum, mut n) = (0.0f64, 0u64);
+    for strand in asset.strands() {
+        for w in strand.windows(2) {
+            sum += f64::from(w[0].distance(w[1]));
+            n += 1;
+        }
+    }
+    if n == 0 { 0.0 } else { (sum / n as f64) as f32 }
 }
 
 impl StrandGeometry {
@@ -90,13 +105,13 @@ impl StrandGeometry {
         } else {
             bytemuck::cast_slice(&segments).to_vec()
         };
-        let bind_group = ctx.scoped("uploading strands", || {
+        let (bind_group, vertex_buffer) = ctx.scoped("uploading strands", || {
             let v = ctx
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some("strands/geometry/vertices"),
                     contents: bytemuck::cast_slice(&vertices),
-                    usage: wgpu::BufferUsages::STORAGE,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                 });
             let s = ctx
                 .device
@@ -105,7 +120,7 @@ impl StrandGeometry {
                     contents: &seg_bytes,
                     usage: wgpu::BufferUsages::STORAGE,
                 });
-            ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("strands/geometry/bind-group"),
                 layout,
                 entries: &[
@@ -118,11 +133,15 @@ impl StrandGeometry {
                         resource: s.as_entire_binding(),
                     },
                 ],
-            })
+            });
+            (group, v)
         })?;
         let b = asset.bounds();
         Ok(StrandGeometry {
             bind_group,
+            vertices: vertex_buffer,
+            vertex_count: vertices.len() as u32,
+            mean_segment_length: mean_segment_length(asset),
             segments: segment_count,
             strands: asset.strand_count() as u32,
             has_thickness: asset.thickness().is_some(),
@@ -132,6 +151,43 @@ impl StrandGeometry {
             has_color: asset.color().is_some(),
             bounds: (b.center(), b.size().length() * 0.5),
         })
+    }
+
+    /// Replace the vertex positions with those of `asset`, which must have the same strands and
+    /// vertex counts (animated hair: the volume is voxelized again every frame). The other vertex
+    /// attributes, the segments and the statistics fixed at upload are kept; the bounds follow.
+    pub fn update_positions(
+        &mut self,
+        ctx: &GpuContext,
+        asset: &HairAsset,
+    ) -> Result<(), RenderError> {
+        if asset.vertex_count() != self.vertex_count as usize
+            || asset.strand_count() != self.strands as usize
+        {
+            return Err(RenderError::Invalid(format!(
+                "update_positions: the asset has {} strands and {} vertices, the geometry {} and {}",
+                asset.strand_count(),
+                asset.vertex_count(),
+                self.strands,
+                self.vertex_count
+            )));
+        }
+        let (vertices, _) = build_arrays(asset);
+        ctx.queue
+            .write_buffer(&self.vertices, 0, bytemuck::cast_slice(&vertices));
+        let b = asset.bounds();
+        self.bounds = (b.center(), b.size().length() * 0.5);
+        Ok(())
+    }
+
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> u32 {
+        self.vertex_count
+    }
+
+    /// Mean segment length in world units at upload (0 without segments).
+    pub fn mean_segment_length(&self) -> f32 {
+        self.mean_segment_length
     }
 
     /// Number of segments drawn.

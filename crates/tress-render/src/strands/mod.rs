@@ -48,6 +48,11 @@
 //!   visibility `(1 - alpha)^(d · r)` with `r = shadow_r` strands per world unit and
 //!   `alpha = shadow_alpha`, averaged over a `(2 · pcf_radius + 1)²` texel kernel (PCF). The head
 //!   receives the same shadows, so hair shadows the scalp.
+//! - **Volume shadows and ambient occlusion (§3.4).** With `shadow_mode = "volume"` the hair is
+//!   voxelized every frame ([`crate::volume`]) and `d · r` is replaced by the strands counted
+//!   through the density volume towards the light (no shadow maps are drawn); with `ao = true`
+//!   the shaded color is multiplied by the volume's local ambient occlusion. Both default off, so
+//!   the rasterizer alone is the paper's TressFX-like baseline.
 
 mod geometry;
 pub(crate) mod ppll;
@@ -67,6 +72,7 @@ pub use shadow::ShadowMap;
 
 use crate::RenderError;
 use crate::gpu::types::StrandParams;
+use crate::volume::ShadowMode;
 
 /// Strand shading model.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -183,6 +189,11 @@ pub struct StrandSettings {
     pub shadow_bias: f32,
     /// Ribbon width in shadow-map texels.
     pub shadow_width_px: f32,
+    /// Self-shadowing from ADSM maps or from the hair volume (§3.4; the volume's march settings
+    /// are in [`crate::volume::VolumeSettings`]).
+    pub shadow_mode: ShadowMode,
+    /// Multiply the shaded color by the hair volume's local ambient occlusion (§3.4).
+    pub ao: bool,
 }
 
 impl Default for StrandSettings {
@@ -203,6 +214,8 @@ impl Default for StrandSettings {
             pcf_radius: 1,
             shadow_bias: 0.05,
             shadow_width_px: 1.0,
+            shadow_mode: ShadowMode::Adsm,
+            ao: false,
         }
     }
 }

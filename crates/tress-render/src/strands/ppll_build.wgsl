@@ -73,6 +73,10 @@ fn shade_strand(in: StrandVarying) -> vec3<f32> {
         }
         color = color + c * shadow_visibility(i, in.world_line, params);
     }
+    // Local ambient occlusion from the hair volume (Jansson 2019 §3.4), when enabled.
+    if volume_params.raster_ao != 0u {
+        color = color * volume_ambient_occlusion(in.world_line);
+    }
     return color;
 }
 

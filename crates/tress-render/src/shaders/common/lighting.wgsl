@@ -1,9 +1,11 @@
 // The lighting bind group (@group(1)) shared by the head pass and the strand passes: lights,
-// material and one ADSM shadow map per light (Jansson 2019 §3.4).
+// material, one ADSM shadow map per light and the hair volume for volume shadows and local
+// ambient occlusion (Jansson 2019 §3.4).
 
 #include "common/lights.wgsl"
 #include "common/shading.wgsl"
 #include "common/params.wgsl"
+#include "common/volume.wgsl"
 
 // Mirrored by `gpu::types::MaterialUniform`.
 struct Material {
@@ -21,13 +23,46 @@ struct Material {
 @group(1) @binding(3) var shadow_map_1: texture_depth_2d;
 @group(1) @binding(4) var shadow_map_2: texture_depth_2d;
 @group(1) @binding(5) var shadow_map_3: texture_depth_2d;
+// The hair volume (rgb mean tangent, a density), its linear clamp-to-edge sampler, the grid the
+// voxelizer fitted this frame and the volume settings (a 1³ empty volume when none is needed).
+@group(1) @binding(6) var volume_texture: texture_3d<f32>;
+@group(1) @binding(7) var volume_sampler: sampler;
+@group(1) @binding(8) var<uniform> volume_grid: VolumeGrid;
+@group(1) @binding(9) var<uniform> volume_params: VolumeParams;
 
-// ADSM visibility of world point `p` from light `i` (1: lit). Points outside the light's map are
+// Volume shadow (§3.4): the visibility (1 - alpha)^n of world point `p` from light `i`, n the
+// strands counted through the volume towards the light.
+fn volume_light_visibility(i: u32, p: vec3<f32>) -> f32 {
+    if volume_grid.occupied == 0u {
+        return 1.0;
+    }
+    let n = volume_shadow_strands(
+        volume_texture, volume_sampler, f32(volume_grid.res), voxel_from_world(volume_grid, p),
+        lights.lights[i].to_light, volume_params.shadow_step, volume_params.shadow_offset);
+    return strand_visibility(n, volume_params.shadow_alpha);
+}
+
+// Local ambient occlusion (§3.4) of world point `p` from the density around it.
+fn volume_ambient_occlusion(p: vec3<f32>) -> f32 {
+    if volume_grid.occupied == 0u {
+        return 1.0;
+    }
+    return volume_ao(
+        volume_texture, volume_sampler, f32(volume_grid.res), voxel_from_world(volume_grid, p),
+        volume_params.ao_radius * volume_grid.scale, volume_params.ao_samples,
+        volume_params.ao_intensity, volume_params.shadow_alpha);
+}
+
+// Shadow visibility of world point `p` from light `i` (1: lit): the volume shadow when
+// `volume_params.raster_shadow_mode` says so, else ADSM. ADSM: points outside the light's map are
 // lit. `r` is given per world unit and scaled to the map's normalized depth; the bias (world
 // units) is subtracted from the fragment's depth before `d = max(0, f - s)`.
 fn shadow_visibility(i: u32, p: vec3<f32>, params: StrandParams) -> f32 {
     if params.shadows == 0u {
         return 1.0;
+    }
+    if volume_params.raster_shadow_mode == SHADOW_MODE_VOLUME {
+        return volume_light_visibility(i, p);
     }
     let light = lights.lights[i];
     let t = light_texel(light, p, params.shadow_map_size);

@@ -1,0 +1,520 @@
+//! Level of detail (Jansson et al. 2019 §3 "Overview", §4): which technique draws the hair, and
+//! the hybrid's blend between the strand rasterizer and the volume raymarcher.
+//!
+//! # Implementation
+//!
+//! - [`Technique::Strands`] draws only the rasterizer, [`Technique::Volume`] only the raymarcher;
+//!   [`Technique::Hybrid`] computes a blend factor `f` per frame: the fixed `lod` setting when
+//!   given, else `smoothstep(near, far, d)` of the distance `d` from the eye to the centre of the
+//!   hair's bounds (`tress_shading::lod_factor`), so close-ups are rasterized and far hair is
+//!   raymarched, as the paper proposes.
+//! - At `f = 0` the frame is exactly the strand renderer's, at `f = 1` exactly the raymarcher's
+//!   (the passes draw straight into the target; tests check both). In between both draw into
+//!   premultiplied scratch layers and [`LodBlend`] (`lod_blend.wgsl`) composites
+//!   `mix(strands, volume, f)` over the target (`transition = "alpha"`, the paper's alpha-blended
+//!   transition), or picks one layer per pixel with a 4 × 4 Bayer threshold
+//!   (`transition = "dither"`, the paper's dithered one: `f = k/16` shows the volume in `k` of
+//!   every 16 pixels).
+//! - The head's shadows follow the rasterizer when it draws (ADSM or volume, its
+//!   `shadow_mode`), else the volume's.
+
+use std::fmt;
+use std::str::FromStr;
+
+use glam::Vec3;
+
+use crate::bind::uniform;
+use crate::gpu::types::LodParams;
+use crate::strands::StrandSettings;
+use crate::volume::{ShadowMode, VolumeSettings};
+use crate::{Camera, FrameInputs, GpuContext, RenderError, shaders};
+
+/// Which renderer draws the hair.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Technique {
+    /// The strand rasterizer, `"strands"`.
+    #[default]
+    Strands,
+    /// The volume raymarcher, `"volume"`.
+    Volume,
+    /// Both, blended by distance (or a fixed `lod`), `"hybrid"`.
+    Hybrid,
+}
+
+impl Technique {
+    /// The setting's spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            Technique::Strands => "strands",
+            Technique::Volume => "volume",
+            Technique::Hybrid => "hybrid",
+        }
+    }
+}
+
+impl FromStr for Technique {
+    type Err = RenderError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "strands" => Ok(Technique::Strands),
+            "volume" => Ok(Technique::Volume),
+            "hybrid" => Ok(Technique::Hybrid),
+            _ => Err(RenderError::Invalid(format!(
+                "unknown technique `{s}` for the renderer (expected strands, volume or hybrid)"
+            ))),
+        }
+    }
+}
+
+impl fmt::Display for Technique {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// How the hybrid mixes the two renderers between `near` and `far`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Transition {
+    /// Alpha blend of the two layers, `"alpha"`.
+    #[default]
+    Alpha,
+    /// Per-pixel choice with an ordered (Bayer) dither, `"dither"`.
+    Dither,
+}
+
+impl Transition {
+    /// The setting's spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            Transition::Alpha => "alpha",
+            Transition::Dither => "dither",
+        }
+    }
+}
+
+impl FromStr for Transition {
+    type Err = RenderError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "alpha" => Ok(Transition::Alpha),
+            "dither" => Ok(Transition::Dither),
+            _ => Err(RenderError::Invalid(format!(
+                "unknown transition `{s}` (expected alpha or dither)"
+            ))),
+        }
+    }
+}
+
+/// Settings of the hybrid (`[hybrid]`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct HybridSettings {
+    /// A fixed blend factor in `[0, 1]` (0 strands, 1 volume); `None` picks it from the distance.
+    pub lod: Option<f32>,
+    /// Eye distance (world units) up to which only strands are drawn.
+    pub near: f32,
+    /// Eye distance from which only the volume is drawn.
+    pub far: f32,
+    /// Alpha-blended or dithered transition.
+    pub transition: Transition,
+}
+
+impl Default for HybridSettings {
+    fn default() -> Self {
+        HybridSettings {
+            lod: None,
+            near: 100.0,
+            far: 250.0,
+            transition: Transition::Alpha,
+        }
+    }
+}
+
+impl HybridSettings {
+    /// Check the ranges; the error names the setting.
+    pub fn validate(&self) -> Result<(), RenderError> {
+        let bad = |name: &str, why: &str| Err(RenderError::Invalid(format!("hybrid.{name} {why}")));
+        if let Some(lod) = self.lod
+            && !(0.0..=1.0).contains(&lod)
+        {
+            return bad("lod", "must be in [0, 1]");
+        }
+        if !(self.near >= 0.0 && self.near.is_finite()) {
+            return bad("near", "must be finite and non-negative");
+        }
+        if !(self.far >= self.near && self.far.is_finite()) {
+            return bad("far", "must be finite and at least `near`");
+        }
+        Ok(())
+    }
+
+    /// The blend factor at eye distance `distance`.
+    pub fn factor(&self, distance: f32) -> f32 {
+        self.lod
+            .unwrap_or_else(|| tress_shading::lod_factor(distance, self.near, self.far))
+    }
+}
+
+/// The blend factor of a frame: 0 for strands, 1 for the volume, the hybrid's by distance from
+/// the eye to `hair_center`.
+pub fn frame_factor(
+    technique: Technique,
+    hybrid: &HybridSettings,
+    camera: &Camera,
+    hair_center: Vec3,
+) -> f32 {
+    match technique {
+        Technique::Strands => 0.0,
+        Technique::Volume => 1.0,
+        Technique::Hybrid => hybrid.factor(camera.eye().distance(hair_center)),
+    }
+}
+
+/// What a frame draws, decided before anything is encoded.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct FramePlan {
+    /// The blend factor (0 strands, 1 volume).
+    pub(crate) lod: f32,
+    /// The strand rasterizer draws.
+    pub(crate) strands: bool,
+    /// The raymarcher draws.
+    pub(crate) volume: bool,
+    /// The hair is voxelized (the raymarcher or the rasterizer's volume shadows or AO need it).
+    pub(crate) voxelize: bool,
+    /// Shadows of the head (and the rasterizer) on.
+    pub(crate) shadows: bool,
+    /// Where those shadows come from.
+    pub(crate) shadow_mode: ShadowMode,
+    /// The rasterizer multiplies by the volume's ambient occlusion.
+    pub(crate) raster_ao: bool,
+    /// How the layers mix when both draw.
+    pub(crate) transition: Transition,
+}
+
+impl FramePlan {
+    pub(crate) fn new(
+        technique: Technique,
+        hybrid: &HybridSettings,
+        strands: &StrandSettings,
+        volume: &VolumeSettings,
+        inputs: &FrameInputs<'_>,
+        has_hair: bool,
+    ) -> Self {
+        let center = inputs.hair.map_or(Vec3::ZERO, |h| h.bounds.0);
+        let lod = frame_factor(technique, hybrid, &inputs.camera, center);
+        let draw_strands = has_hair && lod < 1.0;
+        let draw_volume = has_hair && lod > 0.0;
+        let raster_ao = draw_strands && strands.ao;
+        let voxelize = draw_volume
+            || raster_ao
+            || (draw_strands && strands.shadows && strands.shadow_mode == ShadowMode::Volume);
+        // The head follows the rasterizer's shadows when it draws, else the volume's.
+        let (shadows, shadow_mode) = if draw_volume && !draw_strands {
+            (volume.shadows, ShadowMode::Volume)
+        } else if voxelize {
+            (strands.shadows, strands.shadow_mode)
+        } else {
+            (strands.shadows, ShadowMode::Adsm)
+        };
+        FramePlan {
+            lod,
+            strands: draw_strands,
+            volume: draw_volume,
+            voxelize,
+            shadows,
+            shadow_mode,
+            raster_ao,
+            transition: hybrid.transition,
+        }
+    }
+
+    /// Both renderers draw: into scratch layers, then blended.
+    pub(crate) fn blend(&self) -> bool {
+        self.strands && self.volume
+    }
+}
+
+/// The blend pass (`lod_blend.wgsl`).
+#[derive(Debug)]
+pub struct LodBlend {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    params: wgpu::Buffer,
+}
+
+/// Two premultiplied scratch layers of one target size.
+#[derive(Debug)]
+pub(crate) struct LodLayers {
+    pub(crate) size: [u32; 2],
+    pub(crate) strands: wgpu::TextureView,
+    pub(crate) volume: wgpu::TextureView,
+}
+
+impl LodLayers {
+    pub(crate) fn new(
+        ctx: &GpuContext,
+        size: [u32; 2],
+        format: wgpu::TextureFormat,
+    ) -> Result<Self, RenderError> {
+        ctx.scoped("allocating the LOD layers", || {
+            let layer = |name: &str| {
+                ctx.device
+                    .create_texture(&wgpu::TextureDescriptor {
+                        label: Some(&format!("lod/lod_blend/{name}-layer")),
+                        size: wgpu::Extent3d {
+                            width: size[0],
+                            height: size[1],
+                            depth_or_array_layers: 1,
+                        },
+                        mip_level_count: 1,
+                        sample_count: 1,
+                        dimension: wgpu::TextureDimension::D2,
+                        format,
+                        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                            | wgpu::TextureUsages::TEXTURE_BINDING,
+                        view_formats: &[],
+                    })
+                    .create_view(&Default::default())
+            };
+            LodLayers {
+                size,
+                strands: layer("strands"),
+                volume: layer("volume"),
+            }
+        })
+    }
+
+    /// Record clears of both layers to transparent.
+    pub(crate) fn clear(&self, encoder: &mut wgpu::CommandEncoder) {
+        for view in [&self.strands, &self.volume] {
+            encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("lod/lod_blend/clear-pass"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+        }
+    }
+}
+
+impl LodBlend {
+    pub(crate) fn new(
+        ctx: &GpuContext,
+        color_format: wgpu::TextureFormat,
+    ) -> Result<Self, RenderError> {
+        let module = shaders::create_module(ctx, "lod_blend.wgsl", "lod/lod_blend/shader")?;
+        ctx.scoped("creating the LOD blend pipeline", || {
+            let fragment = wgpu::ShaderStages::FRAGMENT;
+            let texture = |binding| wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility: fragment,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            };
+            let layout = ctx
+                .device
+                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("lod/lod_blend/layout"),
+                    entries: &[texture(0), texture(1), uniform(2, fragment)],
+                });
+            let pipeline_layout =
+                ctx.device
+                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                        label: Some("lod/lod_blend/pipeline-layout"),
+                        bind_group_layouts: &[Some(&layout)],
+                        immediate_size: 0,
+                    });
+            let premultiplied = wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+                operation: wgpu::BlendOperation::Add,
+            };
+            let pipeline = ctx
+                .device
+                .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some("lod/lod_blend/pipeline"),
+                    layout: Some(&pipeline_layout),
+                    vertex: wgpu::VertexState {
+                        module: &module,
+                        entry_point: Some("vs_main"),
+                        compilation_options: Default::default(),
+                        buffers: &[],
+                    },
+                    primitive: Default::default(),
+                    depth_stencil: None,
+                    multisample: Default::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module: &module,
+                        entry_point: Some("fs_main"),
+                        compilation_options: Default::default(),
+                        targets: &[Some(wgpu::ColorTargetState {
+                            format: color_format,
+                            blend: Some(wgpu::BlendState {
+                                color: premultiplied,
+                                alpha: premultiplied,
+                            }),
+                            write_mask: wgpu::ColorWrites::ALL,
+                        })],
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                });
+            let params = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("lod/lod_blend/params"),
+                size: std::mem::size_of::<LodParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            LodBlend {
+                pipeline,
+                layout,
+                params,
+            }
+        })
+    }
+
+    /// Record the blend of `layers` by the plan's factor and transition over `color`.
+    pub(crate) fn encode(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        layers: &LodLayers,
+        plan: &FramePlan,
+        color: &wgpu::TextureView,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        let params = LodParams {
+            factor: plan.lod,
+            transition: match plan.transition {
+                Transition::Alpha => 0,
+                Transition::Dither => 1,
+            },
+            ..Default::default()
+        };
+        ctx.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("lod/lod_blend/bind-group"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&layers.strands),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&layers.volume),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: self.params.as_entire_binding(),
+                },
+            ],
+        });
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("lod/lod_blend/pass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: color,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn factor_follows_distance_or_the_fixed_lod() {
+        let h = HybridSettings {
+            near: 10.0,
+            far: 20.0,
+            ..Default::default()
+        };
+        h.validate().unwrap();
+        assert_eq!(h.factor(5.0), 0.0);
+        assert_eq!(h.factor(15.0), 0.5);
+        assert_eq!(h.factor(25.0), 1.0);
+        let fixed = HybridSettings {
+            lod: Some(0.3),
+            ..h.clone()
+        };
+        assert_eq!(fixed.factor(1000.0), 0.3);
+        let cam = Camera::look_at(
+            Vec3::new(0.0, 0.0, 15.0),
+            Vec3::ZERO,
+            Vec3::Y,
+            0.8,
+            0.1,
+            100.0,
+            [8, 8],
+        );
+        assert!((frame_factor(Technique::Hybrid, &h, &cam, Vec3::ZERO) - 0.5).abs() < 1e-5);
+        assert_eq!(frame_factor(Technique::Strands, &h, &cam, Vec3::ZERO), 0.0);
+        assert_eq!(frame_factor(Technique::Volume, &h, &cam, Vec3::ZERO), 1.0);
+    }
+
+    #[test]
+    fn bad_settings_name_themselves() {
+        for (h, name) in [
+            (
+                HybridSettings {
+                    lod: Some(1.5),
+                    ..Default::default()
+                },
+                "hybrid.lod",
+            ),
+            (
+                HybridSettings {
+                    near: -1.0,
+                    ..Default::default()
+                },
+                "hybrid.near",
+            ),
+            (
+                HybridSettings {
+                    near: 5.0,
+                    far: 4.0,
+                    ..Default::default()
+                },
+                "hybrid.far",
+            ),
+        ] {
+            let e = h.validate().unwrap_err().to_string();
+            assert!(e.contains(name), "{e}");
+        }
+        for t in [Technique::Strands, Technique::Volume, Technique::Hybrid] {
+            assert_eq!(t.name().parse::<Technique>().unwrap(), t);
+        }
+        for t in [Transition::Alpha, Transition::Dither] {
+            assert_eq!(t.name().parse::<Transition>().unwrap(), t);
+        }
+        assert!("patches".parse::<Technique>().is_err());
+    }
+}

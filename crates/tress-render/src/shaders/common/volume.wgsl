@@ -1,0 +1,264 @@
+// The hair volume shared by the voxelizer, the raymarcher and the rasterizer's volume shadows and
+// ambient occlusion (Jansson 2019 §3.3-3.4). The functions are the WGSL twins of
+// tress_shading::voxelize and tress_shading::volume (same names and arguments; the maths and the
+// reasons live in those modules' docs). Positions given as `x` are voxel coordinates of the grid:
+// (p - origin) * scale, voxel i spanning [i, i + 1).
+
+#include "common/shading.wgsl"
+
+// The grid fitted to the hair every frame by volume_bounds.wgsl (mirrored by
+// `gpu::types::VolumeGrid`).
+struct VolumeGrid {
+    // World position of the corner of voxel (0, 0, 0).
+    origin: vec3<f32>,
+    // Voxels per world unit.
+    scale: f32,
+    // The hair's axis-aligned bounding box (the raymarcher's proxy geometry).
+    bounds_min: vec3<f32>,
+    voxel_size: f32,
+    bounds_max: vec3<f32>,
+    // Voxels per axis.
+    res: u32,
+    // 1 when the hair has vertices (the box is valid).
+    occupied: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+// Per-frame settings of the volume passes (mirrored by `gpu::types::VolumeParams`).
+struct VolumeParams {
+    // World from clip of the frame's camera (the raymarcher's eye rays).
+    world_from_clip: mat4x4<f32>,
+    // Raymarch: constant steps across the box diagonal; strands to a solid surface.
+    steps: u32,
+    iso: f32,
+    // 1: skip empty blocks of the occupancy volume.
+    skip_empty: u32,
+    // Shading model (params.wgsl SHADING_*).
+    shading: u32,
+    // Shadows of the rasterizer and the head: SHADOW_MODE_*.
+    raster_shadow_mode: u32,
+    // Opacity of one occluding strand (volume shadows and ambient occlusion).
+    shadow_alpha: f32,
+    // Shadow march step and start offset in voxels.
+    shadow_step: f32,
+    shadow_offset: f32,
+    // 1: the rasterizer multiplies its color by the volume's ambient occlusion.
+    raster_ao: u32,
+    // Local ambient occlusion: radius in world units, samples, intensity.
+    ao_radius: f32,
+    ao_samples: u32,
+    ao_intensity: f32,
+    // VOXELIZE_*; resolve filter radius (vertices mode); per-voxel capacity.
+    voxelize: u32,
+    reconstruction_radius: u32,
+    capacity: u32,
+    // Mean segment length in world units (weight of a vertex in the vertices mode).
+    mean_segment_length: f32,
+    segment_count: u32,
+    vertex_count: u32,
+    // Occupancy blocks per axis (ceil(resolution / OCCUPANCY_BLOCK)).
+    occupancy_res: u32,
+    // Voxels per axis.
+    resolution: u32,
+    // 1: volume shadows / ambient occlusion in the raymarcher.
+    march_shadows: u32,
+    march_ao: u32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+const VOXELIZE_VERTICES: u32 = 0u;
+const VOXELIZE_SEGMENTS: u32 = 1u;
+const SHADOW_MODE_ADSM: u32 = 0u;
+const SHADOW_MODE_VOLUME: u32 = 1u;
+const GRID_PAD: u32 = 2u;
+const SUBVOXEL: u32 = 16u;
+const SUBVOXEL_BITS: u32 = 4u;
+const TANGENT_LEVELS: f32 = 255.0;
+const MAX_MARCH_STEPS: u32 = 4096u;
+const MAX_AO_SAMPLES: u32 = 64u;
+const GOLDEN_ANGLE: f32 = 2.3999633;
+const GOLDEN_RATIO_CONJUGATE: f32 = 0.618034;
+// Edge of an occupancy block in voxels.
+const OCCUPANCY_BLOCK: u32 = 8u;
+
+// ---------------------------------------------------------------------------------------------
+// Voxelization (tress_shading::voxelize)
+
+fn voxel_hash(x: u32) -> u32 {
+    var h = x * 747796405u + 2891336453u;
+    h = ((h >> ((h >> 28u) + 4u)) ^ h) * 277803737u;
+    return (h >> 22u) ^ h;
+}
+
+fn isqrt(x: u32) -> u32 {
+    var r = u32(sqrt(f32(x)));
+    while r > 0u && r * r > x {
+        r = r - 1u;
+    }
+    while (r + 1u) * (r + 1u) <= x {
+        r = r + 1u;
+    }
+    return r;
+}
+
+fn quantize_tangent(t: vec3<f32>) -> vec3<u32> {
+    return vec3<u32>(floor(saturate(t * 0.5 + 0.5) * TANGENT_LEVELS + 0.5));
+}
+
+fn dequantize_tangent(sum: vec3<f32>, count: f32) -> vec3<f32> {
+    if count <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    return sum / count / TANGENT_LEVELS * 2.0 - vec3<f32>(1.0);
+}
+
+fn segment_tangent(p0: vec3<f32>, p1: vec3<f32>) -> vec3<f32> {
+    let d = p1 - p0;
+    let len = length(d);
+    return select(vec3<f32>(0.0, 1.0, 0.0), d / len, len > 1e-20);
+}
+
+fn voxel_from_world(grid: VolumeGrid, p: vec3<f32>) -> vec3<f32> {
+    return (p - grid.origin) * grid.scale;
+}
+
+fn fixed_point(grid: VolumeGrid, p: vec3<f32>) -> vec3<u32> {
+    let f = (p - grid.origin) * (grid.scale * f32(SUBVOXEL));
+    let hi = f32(grid.res * SUBVOXEL - 1u);
+    return vec3<u32>(clamp(floor(f), vec3<f32>(0.0), vec3<f32>(hi)));
+}
+
+fn voxel_index(res: u32, v: vec3<u32>) -> u32 {
+    return v.x + res * (v.y + res * v.z);
+}
+
+fn segment_sample_count(q0: vec3<u32>, q1: vec3<u32>, segment: u32) -> u32 {
+    let d = vec3<i32>(q1) - vec3<i32>(q0);
+    let d2 = u32(d.x * d.x + d.y * d.y + d.z * d.z);
+    let len = isqrt(d2);
+    var n = len >> SUBVOXEL_BITS;
+    if (len & (SUBVOXEL - 1u)) > (voxel_hash(segment) & (SUBVOXEL - 1u)) {
+        n = n + 1u;
+    }
+    return n;
+}
+
+fn segment_sample(a: vec3<i32>, d: vec3<i32>, k: u32, n: u32) -> vec3<u32> {
+    let two_n = 2 * i32(n);
+    let num = a * two_n + d * (2 * i32(k) + 1);
+    return vec3<u32>(num / two_n);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Volume shading (tress_shading::volume). `tex` holds the mean tangent in rgb and the density in
+// a; `samp` is linear and clamps to the edge.
+
+fn volume_sample(tex: texture_3d<f32>, samp: sampler, res: f32, x: vec3<f32>) -> vec4<f32> {
+    return textureSampleLevel(tex, samp, x / res, 0.0);
+}
+
+fn volume_density(tex: texture_3d<f32>, samp: sampler, res: f32, x: vec3<f32>) -> f32 {
+    return volume_sample(tex, samp, res, x).a;
+}
+
+fn ray_box(o: vec3<f32>, d: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) -> vec2<f32> {
+    let inv = vec3<f32>(1.0) / d;
+    let a = (lo - o) * inv;
+    let b = (hi - o) * inv;
+    let near = min(a, b);
+    let far = max(a, b);
+    return vec2<f32>(max(max(near.x, near.y), near.z), min(min(far.x, far.y), far.z));
+}
+
+fn volume_shadow_strands(
+    tex: texture_3d<f32>,
+    samp: sampler,
+    res: f32,
+    x: vec3<f32>,
+    l: vec3<f32>,
+    step: f32,
+    offset: f32,
+) -> f32 {
+    let span = ray_box(x, l, vec3<f32>(0.0), vec3<f32>(res));
+    var t = max(offset, span.x);
+    var n = 0.0;
+    var i = 0u;
+    while i < MAX_MARCH_STEPS && t < span.y {
+        n = n + volume_density(tex, samp, res, x + l * t) * step;
+        t = t + step;
+        i = i + 1u;
+    }
+    return n;
+}
+
+fn ao_offset(i: u32, n: u32) -> vec3<f32> {
+    let fi = f32(i) + 0.5;
+    let nf = f32(max(n, 1u));
+    let z = 1.0 - 2.0 * fi / nf;
+    let r = sqrt(max(1.0 - z * z, 0.0));
+    let phi = GOLDEN_ANGLE * f32(i);
+    let u = fi * GOLDEN_RATIO_CONJUGATE;
+    let radius = pow(u - floor(u), 1.0 / 3.0);
+    return vec3<f32>(r * cos(phi), r * sin(phi), z) * radius;
+}
+
+fn volume_ao(
+    tex: texture_3d<f32>,
+    samp: sampler,
+    res: f32,
+    x: vec3<f32>,
+    radius: f32,
+    samples: u32,
+    intensity: f32,
+    alpha: f32,
+) -> f32 {
+    let n = min(samples, MAX_AO_SAMPLES);
+    if n == 0u || radius <= 0.0 {
+        return 1.0;
+    }
+    var sum = 0.0;
+    for (var i = 0u; i < n; i = i + 1u) {
+        sum = sum + volume_density(tex, samp, res, x + ao_offset(i, n) * radius);
+    }
+    let mean = sum / f32(n);
+    return strand_visibility(intensity * mean * radius, alpha);
+}
+
+fn density_gradient(tex: texture_3d<f32>, samp: sampler, res: f32, x: vec3<f32>) -> vec3<f32> {
+    let ex = vec3<f32>(1.0, 0.0, 0.0);
+    let ey = vec3<f32>(0.0, 1.0, 0.0);
+    let ez = vec3<f32>(0.0, 0.0, 1.0);
+    return vec3<f32>(
+        volume_density(tex, samp, res, x + ex) - volume_density(tex, samp, res, x - ex),
+        volume_density(tex, samp, res, x + ey) - volume_density(tex, samp, res, x - ey),
+        volume_density(tex, samp, res, x + ez) - volume_density(tex, samp, res, x - ez),
+    ) * 0.5;
+}
+
+fn density_normal(gradient: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
+    let len = length(gradient);
+    return select(fallback, -gradient / len, len > 1e-12);
+}
+
+fn fake_transparency_alpha(strands: f32, iso: f32) -> f32 {
+    if iso <= 0.0 {
+        return 1.0;
+    }
+    return saturate(strands / iso);
+}
+
+fn lod_factor(distance: f32, near: f32, far: f32) -> f32 {
+    if far <= near {
+        return select(0.0, 1.0, distance >= near);
+    }
+    return smoothstep(near, far, distance);
+}
+
+fn dither_threshold(px: vec2<u32>) -> f32 {
+    var bayer = array<u32, 16>(0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
+    let b = bayer[(px.y & 3u) * 4u + (px.x & 3u)];
+    return (f32(b) + 0.5) / 16.0;
+}

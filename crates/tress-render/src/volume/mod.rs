@@ -1,0 +1,412 @@
+//! The volume approximation of Jansson et al. 2019 (`volume`): strands voxelized every frame into
+//! a density and a tangent volume, raymarched to an isosurface shaded with the strands'
+//! Kajiya-Kay, with volume shadows and local ambient occlusion that the strand rasterizer can use
+//! too.
+//!
+//! # Implementation
+//!
+//! Passes, in frame order (see `frame.rs`), all recorded by [`Voxelizer::encode`] except the last:
+//! [`VolumeBounds`] (`volume_bounds.wgsl`), [`Voxelize`] (`voxelize.wgsl`), [`VolumeResolve`]
+//! (`volume_resolve.wgsl`), then [`Raymarch`] (`raymarch.wgsl`). The CPU reference of the
+//! voxelizer is `tress_shading::voxelize`, the shading twins are `tress_shading::volume` (their
+//! docs hold the formulas); `shaders/common/volume.wgsl` has the WGSL twins.
+//!
+//! - **Proxy geometry (§3.3 "Surface").** The AABB of the hair is built on the GPU from every
+//!   vertex (`atomicMin`/`atomicMax` on order-preserving integer keys of the floats, so it is the
+//!   exact box), then one invocation fits the grid: `resolution³` cubic voxels, the box's longest
+//!   side spanning `resolution - 4` of them, centred (two empty voxels on every side). Nothing is
+//!   precomputed, so animated hair works: the grid follows the hair every frame.
+//! - **Strand voxelization (§3.3).** Atomic counters in storage buffers: one `u32` count per
+//!   voxel and the quantized tangents (`[-1, 1]` to `[0, 255]` per channel) summed into two more
+//!   `u32` words (x and y in 16 bits each, z). `voxelize = "vertices"` is the paper's
+//!   one-count-per-vertex scheme, whose gaps (§4.2) the resolve covers with a box reconstruction
+//!   filter (`reconstruction_radius`, weighted by the mean segment length in voxels so the unit
+//!   stays "strand length per voxel"). `voxelize = "segments"` (the default) samples every
+//!   segment at voxel frequency, the remedy §4.2 suggests; it is the default because it leaves no
+//!   gaps whatever the segment length or resolution, needs no filter (so it keeps the detail the
+//!   filter blurs away), and counts a strand crossing a voxel about once, which is the density the
+//!   paper means. Positions go to fixed point once and the rest is integer arithmetic, so the GPU
+//!   matches the CPU reference exactly. Counters are capacity-checked (`max_strands_per_voxel`,
+//!   default 255: the paper's 8-bit counter): a sample finding the counter full is dropped and
+//!   counted (design rule 8), see [`VolumeStats`].
+//! - **Resolve.** One invocation per voxel divides the tangent sums by the count, de-quantizes
+//!   (§3.3, Figure 4) and writes `rgba16float` texels — rgb the mean tangent, a the density — into
+//!   a 3D texture sampled trilinearly by everything downstream. It also marks an occupancy volume
+//!   of `8³`-voxel blocks (each non-empty voxel marks the blocks within one voxel of it, the
+//!   trilinear footprint).
+//! - **Raymarch (§3.3 "Surface", "Shading").** The AABB's back faces are rasterized (so the camera
+//!   may be inside the box); each fragment intersects its eye ray with the box and marches
+//!   `steps` constant steps (default 512, the paper's) across the box diagonal, accumulating
+//!   `density · step` strands until `iso` strands: the solid isosurface, shaded opaque. A ray that
+//!   never gets there but met hair is shaded at its first non-empty sample with opacity
+//!   `saturate(strands / iso)` (fake transparency). The march stops at the scene depth (the head).
+//!   Shading is the strands' model from `shading.wgsl` (Kajiya-Kay; Scheuermann with the normal)
+//!   with the mean tangent of the volume, normal `-∇density`, base color from the material (the
+//!   volume carries no vertex colors). `skip_empty = true` jumps over empty occupancy blocks to the
+//!   next sample on the same lattice, so the image is the same as without skipping (a test checks
+//!   it); off is the paper.
+//! - **Volume shadows (§3.4).** A march from the point towards the light (`shadow_step` voxels,
+//!   starting `shadow_offset` voxels out) counts the strands in the way; `(1 - shadow_alpha)^n`
+//!   replaces ADSM's `(1 - alpha)^(d·r)`. The rasterizer uses it with
+//!   `strands.shadow_mode = "volume"` (then no shadow maps are rendered), the head too.
+//! - **Local ambient occlusion (§3.4).** The mean density at `ao_samples` points spread through a
+//!   ball of `ao_radius` (world units) around the point, times the radius, is the number of
+//!   strands an average ray meets; `(1 - shadow_alpha)^(ao_intensity · n)` multiplies the hair's
+//!   shaded color. The raymarcher uses it with `ao = true` (default), the rasterizer with
+//!   `strands.ao = true`.
+//!
+//! Memory: `3 · 4` bytes of counters and `8` bytes of texture per voxel (320 MiB at the default
+//! `256³`); each counter buffer must fit the device's storage-binding limit (128 MiB on lavapipe:
+//! at most `322³`).
+
+pub(crate) mod raymarch;
+mod volume_bounds;
+mod volume_resolve;
+mod voxelize;
+mod voxelizer;
+
+use std::fmt;
+use std::str::FromStr;
+
+pub use raymarch::Raymarch;
+pub use tress_shading::VoxelizeMode;
+pub use volume_bounds::VolumeBounds;
+pub use volume_resolve::{VOLUME_FORMAT, VolumeResolve};
+pub use voxelize::Voxelize;
+pub use voxelizer::{VolumeReadback, Voxelizer};
+
+use crate::gpu::types::{VolumeGrid, VolumeParams};
+use crate::{GpuContext, RenderError};
+
+/// Edge of an occupancy block in voxels (`OCCUPANCY_BLOCK` in `common/volume.wgsl`).
+pub const OCCUPANCY_BLOCK: u32 = 8;
+
+/// Where the strand rasterizer (and the head) gets its self-shadowing from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ShadowMode {
+    /// Approximated deep shadow maps, `(1 - alpha)^(d·r)` (§3.4), `"adsm"`.
+    #[default]
+    Adsm,
+    /// Strands counted through the density volume towards the light (§3.4), `"volume"`.
+    Volume,
+}
+
+impl ShadowMode {
+    /// The setting's spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShadowMode::Adsm => "adsm",
+            ShadowMode::Volume => "volume",
+        }
+    }
+}
+
+impl FromStr for ShadowMode {
+    type Err = RenderError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "adsm" => Ok(ShadowMode::Adsm),
+            "volume" => Ok(ShadowMode::Volume),
+            _ => Err(RenderError::Invalid(format!(
+                "unknown shadow_mode `{s}` (expected adsm or volume)"
+            ))),
+        }
+    }
+}
+
+impl fmt::Display for ShadowMode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Parse a voxelization mode setting (`"vertices"` or `"segments"`).
+pub fn parse_voxelize_mode(s: &str) -> Result<VoxelizeMode, RenderError> {
+    match s {
+        "vertices" => Ok(VoxelizeMode::Vertices),
+        "segments" => Ok(VoxelizeMode::Segments),
+        _ => Err(RenderError::Invalid(format!(
+            "unknown voxelize mode `{s}` (expected vertices or segments)"
+        ))),
+    }
+}
+
+/// The setting's spelling of a voxelization mode.
+pub fn voxelize_mode_name(mode: VoxelizeMode) -> &'static str {
+    match mode {
+        VoxelizeMode::Vertices => "vertices",
+        VoxelizeMode::Segments => "segments",
+    }
+}
+
+/// Settings of the volume technique (`[volume]`). Every parameter the paper names is here.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VolumeSettings {
+    /// Voxels per axis of the grid (the paper: 256).
+    pub resolution: u32,
+    /// How strands are deposited (default segments; see the module docs).
+    pub voxelize: VoxelizeMode,
+    /// Radius in voxels of the vertices mode's reconstruction box filter, `0..=3`.
+    pub reconstruction_radius: u32,
+    /// Capacity of a voxel's counter, `1..=255` (the paper's 8-bit counter: 255).
+    pub max_strands_per_voxel: u32,
+    /// Raymarching steps across the box diagonal (the paper: 512).
+    pub steps: u32,
+    /// Strands along a ray to a solid isosurface.
+    pub iso: f32,
+    /// Jump over empty blocks of the occupancy volume (off: the paper).
+    pub skip_empty: bool,
+    /// Volume shadows in the raymarcher.
+    pub shadows: bool,
+    /// Opacity of one occluding strand in volume shadows and ambient occlusion.
+    pub shadow_alpha: f32,
+    /// Step of the shadow march in voxels.
+    pub shadow_step: f32,
+    /// Start of the shadow march in voxels from the point (skips its own strands).
+    pub shadow_offset: f32,
+    /// Local ambient occlusion in the raymarcher.
+    pub ao: bool,
+    /// Radius of the ambient-occlusion ball in world units.
+    pub ao_radius: f32,
+    /// Ambient-occlusion samples, `1..=64`.
+    pub ao_samples: u32,
+    /// Multiplier of the occluding strand count (the paper's tweak towards a ray tracer).
+    pub ao_intensity: f32,
+}
+
+impl Default for VolumeSettings {
+    fn default() -> Self {
+        VolumeSettings {
+            resolution: 256,
+            voxelize: VoxelizeMode::Segments,
+            reconstruction_radius: 1,
+            max_strands_per_voxel: 255,
+            steps: 512,
+            iso: 2.0,
+            skip_empty: false,
+            shadows: true,
+            shadow_alpha: 0.25,
+            shadow_step: 1.0,
+            shadow_offset: 1.0,
+            ao: true,
+            ao_radius: 1.0,
+            ao_samples: 16,
+            ao_intensity: 1.0,
+        }
+    }
+}
+
+impl VolumeSettings {
+    /// Check every setting's range; the error names the setting.
+    pub fn validate(&self) -> Result<(), RenderError> {
+        let bad = |name: &str, why: &str| Err(RenderError::Invalid(format!("volume.{name} {why}")));
+        let (lo, hi) = (
+            tress_shading::voxelize::MIN_RESOLUTION,
+            tress_shading::voxelize::MAX_RESOLUTION,
+        );
+        if !(lo..=hi).contains(&self.resolution) {
+            return bad("resolution", &format!("must be in {lo}..={hi}"));
+        }
+        if self.reconstruction_radius > 3 {
+            return bad("reconstruction_radius", "must be in 0..=3");
+        }
+        let cap = tress_shading::voxelize::MAX_CAPACITY;
+        if !(1..=cap).contains(&self.max_strands_per_voxel) {
+            return bad("max_strands_per_voxel", &format!("must be in 1..={cap}"));
+        }
+        if !(1..=8192).contains(&self.steps) {
+            return bad("steps", "must be in 1..=8192");
+        }
+        if !(self.iso > 0.0 && self.iso.is_finite()) {
+            return bad("iso", "must be positive and finite");
+        }
+        if !(0.0..=1.0).contains(&self.shadow_alpha) {
+            return bad("shadow_alpha", "must be in [0, 1]");
+        }
+        if !(self.shadow_step >= 0.25 && self.shadow_step <= 64.0) {
+            return bad("shadow_step", "must be in [0.25, 64] voxels");
+        }
+        if !(self.shadow_offset >= 0.0 && self.shadow_offset <= 64.0) {
+            return bad("shadow_offset", "must be in [0, 64] voxels");
+        }
+        if !(self.ao_radius > 0.0 && self.ao_radius.is_finite()) {
+            return bad("ao_radius", "must be positive and finite");
+        }
+        if !(1..=tress_shading::volume::MAX_AO_SAMPLES).contains(&self.ao_samples) {
+            return bad("ao_samples", "must be in 1..=64");
+        }
+        if !(self.ao_intensity >= 0.0 && self.ao_intensity.is_finite()) {
+            return bad("ao_intensity", "must be finite and non-negative");
+        }
+        Ok(())
+    }
+
+    /// Bytes of counters and texture a grid of this resolution takes.
+    pub fn bytes(&self) -> u64 {
+        let voxels = u64::from(self.resolution).pow(3);
+        let blocks = u64::from(self.resolution.div_ceil(OCCUPANCY_BLOCK)).pow(3);
+        voxels * (3 * 4 + 8) + blocks * 4
+    }
+}
+
+/// The volume resources bound in the lighting group (`common/lighting.wgsl` bindings 6 to 9).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct VolumeBinding<'a> {
+    pub(crate) view: &'a wgpu::TextureView,
+    pub(crate) sampler: &'a wgpu::Sampler,
+    pub(crate) grid: &'a wgpu::Buffer,
+    pub(crate) params: &'a wgpu::Buffer,
+}
+
+/// The renderer's volume resources that exist without a voxelizer: the [`VolumeParams`] uniform,
+/// the linear clamp-to-edge sampler, and an empty `1³` volume with its (unoccupied) grid.
+pub(crate) fn volume_resources(
+    ctx: &GpuContext,
+) -> Result<
+    (
+        wgpu::Buffer,
+        wgpu::Sampler,
+        (wgpu::TextureView, wgpu::Buffer),
+    ),
+    RenderError,
+> {
+    use wgpu::util::DeviceExt;
+    ctx.scoped("creating the volume bindings", || {
+        let params = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("volume/params"),
+                contents: bytemuck::bytes_of(&VolumeParams::default()),
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            });
+        let sampler = ctx.device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("volume/sampler"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("volume/empty/texture"),
+            size: wgpu::Extent3d {
+                width: 1,
+                height: 1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D3,
+            format: volume_resolve::VOLUME_FORMAT,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let grid = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("volume/empty/grid"),
+                contents: bytemuck::bytes_of(&VolumeGrid {
+                    res: 1,
+                    scale: 1.0,
+                    voxel_size: 1.0,
+                    ..Default::default()
+                }),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+        (
+            params,
+            sampler,
+            (texture.create_view(&Default::default()), grid),
+        )
+    })
+}
+
+/// What the voxelizer reported about one frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct VolumeStats {
+    /// Samples deposited into the counters (accepted and dropped).
+    pub deposits: u32,
+    /// Samples dropped because their voxel's counter was at the capacity.
+    pub dropped: u32,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_the_papers_and_valid() {
+        let s = VolumeSettings::default();
+        s.validate().expect("valid");
+        assert_eq!(
+            (s.resolution, s.steps, s.max_strands_per_voxel),
+            (256, 512, 255)
+        );
+        assert_eq!(s.voxelize, VoxelizeMode::Segments);
+        assert!(!s.skip_empty);
+        // 256³: 3 counter buffers of 64 MiB (each inside lavapipe's 128 MiB binding) + texture.
+        assert_eq!(s.bytes() - 32u64.pow(3) * 4, 256u64.pow(3) * 20);
+    }
+
+    #[test]
+    fn out_of_range_settings_name_themselves() {
+        let cases = [
+            (
+                VolumeSettings {
+                    resolution: 4,
+                    ..Default::default()
+                },
+                "volume.resolution",
+            ),
+            (
+                VolumeSettings {
+                    steps: 0,
+                    ..Default::default()
+                },
+                "volume.steps",
+            ),
+            (
+                VolumeSettings {
+                    iso: 0.0,
+                    ..Default::default()
+                },
+                "volume.iso",
+            ),
+            (
+                VolumeSettings {
+                    max_strands_per_voxel: 256,
+                    ..Default::default()
+                },
+                "volume.max_strands_per_voxel",
+            ),
+            (
+                VolumeSettings {
+                    ao_samples: 0,
+                    ..Default::default()
+                },
+                "volume.ao_samples",
+            ),
+            (
+                VolumeSettings {
+                    shadow_step: 0.0,
+                    ..Default::default()
+                },
+                "volume.shadow_step",
+            ),
+        ];
+        for (s, name) in cases {
+            let e = s.validate().expect_err(name).to_string();
+            assert!(e.contains(name), "{e}");
+        }
+    }
+
+    #[test]
+    fn names_round_trip() {
+        for m in [ShadowMode::Adsm, ShadowMode::Volume] {
+            assert_eq!(m.name().parse::<ShadowMode>().unwrap(), m);
+        }
+        for m in [VoxelizeMode::Vertices, VoxelizeMode::Segments] {
+            assert_eq!(parse_voxelize_mode(voxelize_mode_name(m)).unwrap(), m);
+        }
+        assert!("dsm".parse::<ShadowMode>().is_err());
+        assert!(parse_voxelize_mode("voxels").is_err());
+    }
+}

@@ -1,0 +1,102 @@
+// Volume bounds pass (Jansson 2019 §3.3, "Surface"): the AABB of the hair, "expanding a cuboid
+// with each incoming vertex", then the voxel grid fitted to it (twin of
+// tress_shading::VoxelGrid::fit). Three entry points dispatched in order: `clear` (one
+// invocation), `reduce` (one per vertex), `fit` (one invocation). Owner: `VolumeBounds`.
+
+#include "common/strand.wgsl"
+#include "common/volume.wgsl"
+
+// Mirrored by `gpu::types::BoundsKeys`: the box as order-preserving keys of its floats.
+struct BoundsKeys {
+    lo: array<atomic<u32>, 3>,
+    hi: array<atomic<u32>, 3>,
+}
+
+@group(0) @binding(0) var<uniform> volume: VolumeParams;
+@group(0) @binding(1) var<storage, read_write> keys: BoundsKeys;
+@group(0) @binding(2) var<storage, read_write> grid: VolumeGrid;
+
+var<workgroup> wg_lo: array<atomic<u32>, 3>;
+var<workgroup> wg_hi: array<atomic<u32>, 3>;
+
+// A u32 key whose unsigned order is the float order (negative floats: all bits flipped; others:
+// the sign bit set), so atomicMin/atomicMax find the exact extremes.
+fn order_key(f: f32) -> u32 {
+    let b = bitcast<u32>(f);
+    return select(b | 0x80000000u, ~b, (b & 0x80000000u) != 0u);
+}
+
+fn from_key(k: u32) -> f32 {
+    return bitcast<f32>(select(~k, k & 0x7fffffffu, (k & 0x80000000u) != 0u));
+}
+
+@compute @workgroup_size(1)
+fn clear() {
+    for (var i = 0u; i < 3u; i = i + 1u) {
+        atomicStore(&keys.lo[i], 0xffffffffu);
+        atomicStore(&keys.hi[i], 0u);
+    }
+}
+
+@compute @workgroup_size(64)
+fn reduce(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
+    if li == 0u {
+        for (var i = 0u; i < 3u; i = i + 1u) {
+            atomicStore(&wg_lo[i], 0xffffffffu);
+            atomicStore(&wg_hi[i], 0u);
+        }
+    }
+    workgroupBarrier();
+    let v = id.x + id.y * groups.x * 64u;
+    if v < volume.vertex_count {
+        let p = strand_vertices[v].position;
+        for (var i = 0u; i < 3u; i = i + 1u) {
+            let k = order_key(p[i]);
+            atomicMin(&wg_lo[i], k);
+            atomicMax(&wg_hi[i], k);
+        }
+    }
+    workgroupBarrier();
+    if li == 0u {
+        for (var i = 0u; i < 3u; i = i + 1u) {
+            atomicMin(&keys.lo[i], atomicLoad(&wg_lo[i]));
+            atomicMax(&keys.hi[i], atomicLoad(&wg_hi[i]));
+        }
+    }
+}
+
+@compute @workgroup_size(1)
+fn fit() {
+    var lo: vec3<f32>;
+    var hi: vec3<f32>;
+    for (var i = 0u; i < 3u; i = i + 1u) {
+        lo[i] = from_key(atomicLoad(&keys.lo[i]));
+        hi[i] = from_key(atomicLoad(&keys.hi[i]));
+    }
+    var g: VolumeGrid;
+    g.res = volume.resolution;
+    if volume.vertex_count == 0u || !all(lo <= hi) {
+        g.occupied = 0u;
+        g.scale = 1.0;
+        g.voxel_size = 1.0;
+        grid = g;
+        return;
+    }
+    // tress_shading::VoxelGrid::fit, same operations in the same order.
+    let extent = hi - lo;
+    let longest = max(max(extent.x, extent.y), max(extent.z, 1e-6));
+    let inner = f32(volume.resolution - 2u * GRID_PAD);
+    let voxel_size = longest / inner;
+    let center = (lo + hi) * 0.5;
+    g.origin = center - vec3<f32>(voxel_size * (f32(volume.resolution) * 0.5));
+    g.scale = inner / longest;
+    g.voxel_size = voxel_size;
+    g.bounds_min = lo;
+    g.bounds_max = hi;
+    g.occupied = 1u;
+    grid = g;
+}

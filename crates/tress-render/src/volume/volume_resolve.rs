@@ -1,0 +1,81 @@
+//! [`VolumeResolve`], owner of `volume_resolve.wgsl`.
+
+use crate::bind::{storage, uniform};
+use crate::{GpuContext, RenderError, shaders};
+
+/// Format of the volume texture: rgb the mean tangent, a the density (exact integers to 2048).
+pub const VOLUME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// The resolve pass: counters to the trilinearly sampled 3D texture, and the occupancy blocks.
+#[derive(Debug)]
+pub struct VolumeResolve {
+    pipeline: wgpu::ComputePipeline,
+    pub(crate) layout: wgpu::BindGroupLayout,
+}
+
+impl VolumeResolve {
+    pub(crate) fn new(ctx: &GpuContext) -> Result<Self, RenderError> {
+        let module = shaders::create_module(
+            ctx,
+            "volume/volume_resolve.wgsl",
+            "volume/volume_resolve/shader",
+        )?;
+        ctx.scoped("creating the volume resolve pipeline", || {
+            let c = wgpu::ShaderStages::COMPUTE;
+            let layout = ctx
+                .device
+                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("volume/volume_resolve/layout"),
+                    entries: &[
+                        uniform(0, c),
+                        storage(1, c, true),
+                        storage(2, c, true),
+                        storage(3, c, true),
+                        storage(4, c, true),
+                        wgpu::BindGroupLayoutEntry {
+                            binding: 5,
+                            visibility: c,
+                            ty: wgpu::BindingType::StorageTexture {
+                                access: wgpu::StorageTextureAccess::WriteOnly,
+                                format: VOLUME_FORMAT,
+                                view_dimension: wgpu::TextureViewDimension::D3,
+                            },
+                            count: None,
+                        },
+                        storage(6, c, false),
+                    ],
+                });
+            let pipeline_layout =
+                ctx.device
+                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                        label: Some("volume/volume_resolve/pipeline-layout"),
+                        bind_group_layouts: &[Some(&layout)],
+                        immediate_size: 0,
+                    });
+            let pipeline = ctx
+                .device
+                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some("volume/volume_resolve/pipeline"),
+                    layout: Some(&pipeline_layout),
+                    module: &module,
+                    entry_point: Some("resolve"),
+                    compilation_options: Default::default(),
+                    cache: None,
+                });
+            VolumeResolve { pipeline, layout }
+        })
+    }
+
+    /// Record one invocation per voxel of a `res³` grid into an open compute pass.
+    pub(crate) fn encode(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        group: &wgpu::BindGroup,
+        res: u32,
+    ) {
+        let n = res.div_ceil(4);
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, group, &[]);
+        pass.dispatch_workgroups(n, n, n);
+    }
+}

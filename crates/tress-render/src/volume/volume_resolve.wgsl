@@ -1,0 +1,57 @@
+// Volume resolve pass (Jansson 2019 §3.3, Figure 4): one invocation per voxel turns the counters
+// into texels of the 3D volume texture — rgb the de-quantized mean tangent, a the density — with
+// the reconstruction box filter in the vertices mode (twin of tress_shading::voxelize::resolve),
+// and marks the occupancy blocks the voxel's trilinear footprint touches. Owner: `VolumeResolve`.
+
+#include "common/volume.wgsl"
+
+@group(0) @binding(0) var<uniform> volume: VolumeParams;
+@group(0) @binding(1) var<storage, read> grid: VolumeGrid;
+@group(0) @binding(2) var<storage, read> counts: array<u32>;
+@group(0) @binding(3) var<storage, read> tangent_xy: array<u32>;
+@group(0) @binding(4) var<storage, read> tangent_z: array<u32>;
+@group(0) @binding(5) var volume_out: texture_storage_3d<rgba16float, write>;
+@group(0) @binding(6) var<storage, read_write> occupancy: array<atomic<u32>>;
+
+@compute @workgroup_size(4, 4, 4)
+fn resolve(@builtin(global_invocation_id) v: vec3<u32>) {
+    let res = volume.resolution;
+    if any(v >= vec3<u32>(res)) {
+        return;
+    }
+    let vertices = volume.voxelize == VOXELIZE_VERTICES;
+    let r = i32(select(0u, volume.reconstruction_radius, vertices));
+    var c = 0u;
+    var sum = vec3<u32>(0u);
+    for (var dz = -r; dz <= r; dz = dz + 1) {
+        for (var dy = -r; dy <= r; dy = dy + 1) {
+            for (var dx = -r; dx <= r; dx = dx + 1) {
+                let n = vec3<i32>(v) + vec3<i32>(dx, dy, dz);
+                if any(n < vec3<i32>(0)) || any(n >= vec3<i32>(i32(res))) {
+                    continue;
+                }
+                let i = voxel_index(res, vec3<u32>(n));
+                c = c + min(counts[i], volume.capacity);
+                let xy = tangent_xy[i];
+                sum = sum + vec3<u32>(xy & 0xffffu, xy >> 16u, tangent_z[i]);
+            }
+        }
+    }
+    let side = f32(2 * r + 1);
+    let weight = select(1.0, volume.mean_segment_length * grid.scale, vertices);
+    let density = f32(c) / (side * side * side) * weight;
+    let tangent = dequantize_tangent(vec3<f32>(sum), f32(c));
+    textureStore(volume_out, v, vec4<f32>(tangent, density));
+    if density > 0.0 {
+        let last = vec3<i32>(i32(volume.occupancy_res) - 1);
+        let b0 = clamp((vec3<i32>(v) - vec3<i32>(1)) / i32(OCCUPANCY_BLOCK), vec3<i32>(0), last);
+        let b1 = clamp((vec3<i32>(v) + vec3<i32>(1)) / i32(OCCUPANCY_BLOCK), vec3<i32>(0), last);
+        for (var z = b0.z; z <= b1.z; z = z + 1) {
+            for (var y = b0.y; y <= b1.y; y = y + 1) {
+                for (var x = b0.x; x <= b1.x; x = x + 1) {
+                    atomicStore(&occupancy[voxel_index(volume.occupancy_res, vec3<u32>(vec3<i32>(x, y, z)))], 1u);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,465 @@
+//! [`Voxelizer`]: the volume's GPU resources and the voxelization of one frame (bounds, voxelize,
+//! resolve), plus a readback of everything for tests and tools.
+
+use wgpu::util::DeviceExt;
+
+use crate::bind::Layouts;
+use crate::gpu::types::{BoundsKeys, VolumeGrid, VolumeParams, VoxelStats};
+use crate::gpu::{f16_to_f32, read_buffer};
+use crate::strands::StrandGeometry;
+use crate::volume::volume_resolve::VOLUME_FORMAT;
+use crate::volume::{
+    OCCUPANCY_BLOCK, VolumeBounds, VolumeResolve, VolumeSettings, VolumeStats, Voxelize,
+};
+use crate::{GpuContext, RenderError};
+
+/// The per-resolution resources.
+#[derive(Debug)]
+struct Grid {
+    res: u32,
+    keys: wgpu::Buffer,
+    grid: wgpu::Buffer,
+    grid_uniform: wgpu::Buffer,
+    counts: wgpu::Buffer,
+    tangent_xy: wgpu::Buffer,
+    tangent_z: wgpu::Buffer,
+    stats: wgpu::Buffer,
+    occupancy: wgpu::Buffer,
+    texture: wgpu::Texture,
+    view: wgpu::TextureView,
+    bounds_group: wgpu::BindGroup,
+    voxelize_group: wgpu::BindGroup,
+    resolve_group: wgpu::BindGroup,
+}
+
+/// Everything the voxelizer holds after a frame, read back (tests and tools; slow).
+#[derive(Clone, Debug, PartialEq)]
+pub struct VolumeReadback {
+    /// The grid the GPU fitted.
+    pub grid: VolumeGrid,
+    /// The box as order-preserving keys.
+    pub keys: BoundsKeys,
+    /// Per voxel: samples that reached it (dropped ones included).
+    pub counts: Vec<u32>,
+    /// Per voxel: quantized tangent sums of the accepted samples (x, y, z).
+    pub tangent_sums: Vec<[u32; 3]>,
+    /// Per voxel: the texel (mean tangent, density).
+    pub texels: Vec<[f32; 4]>,
+    /// Per occupancy block: 1 when occupied.
+    pub occupancy: Vec<u32>,
+    /// Deposits and drops.
+    pub stats: VoxelStats,
+}
+
+/// The strand voxelizer (§3.3): owns the counters, the volume texture and the three compute
+/// passes. One [`Voxelizer::encode`] per frame rebuilds the volume from the geometry as it is.
+#[derive(Debug)]
+pub struct Voxelizer {
+    bounds: VolumeBounds,
+    voxelize: Voxelize,
+    resolve: VolumeResolve,
+    params: wgpu::Buffer,
+    grid: Grid,
+}
+
+/// Bind group entries 0, 1, ... for whole buffers.
+fn entries<'a>(bufs: &[&'a wgpu::Buffer]) -> Vec<wgpu::BindGroupEntry<'a>> {
+    bufs.iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect()
+}
+
+fn buffer(ctx: &GpuContext, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage,
+        mapped_at_creation: false,
+    })
+}
+
+impl Voxelizer {
+    /// A voxelizer of `resolution³` with its own settings uniform (write it with
+    /// [`Voxelizer::voxelize`]).
+    pub fn new(ctx: &GpuContext, resolution: u32) -> Result<Self, RenderError> {
+        let params = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("volume/voxelizer/params"),
+                contents: bytemuck::bytes_of(&VolumeParams::default()),
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            });
+        Self::with_params(ctx, &Layouts::new(&ctx.device), resolution, &params)
+    }
+
+    /// A voxelizer reading its settings from `params` (a [`VolumeParams`] uniform the caller
+    /// writes each frame).
+    pub(crate) fn with_params(
+        ctx: &GpuContext,
+        layouts: &Layouts,
+        resolution: u32,
+        params: &wgpu::Buffer,
+    ) -> Result<Self, RenderError> {
+        let bounds = VolumeBounds::new(ctx, layouts)?;
+        let voxelize = Voxelize::new(ctx, layouts)?;
+        let resolve = VolumeResolve::new(ctx)?;
+        let grid = Self::allocate(ctx, &bounds, &voxelize, &resolve, params, resolution)?;
+        Ok(Voxelizer {
+            bounds,
+            voxelize,
+            resolve,
+            params: params.clone(),
+            grid,
+        })
+    }
+
+    fn allocate(
+        ctx: &GpuContext,
+        bounds: &VolumeBounds,
+        voxelize: &Voxelize,
+        resolve: &VolumeResolve,
+        params: &wgpu::Buffer,
+        res: u32,
+    ) -> Result<Grid, RenderError> {
+        let lo = tress_shading::voxelize::MIN_RESOLUTION;
+        let hi = tress_shading::voxelize::MAX_RESOLUTION;
+        if !(lo..=hi).contains(&res) {
+            return Err(RenderError::Invalid(format!(
+                "volume.resolution {res} is outside {lo}..={hi}"
+            )));
+        }
+        let limits = ctx.device.limits();
+        if res > limits.max_texture_dimension_3d {
+            return Err(RenderError::Limit {
+                what: format!("a {res}³ volume texture (edge)"),
+                needed: u64::from(res),
+                limit: u64::from(limits.max_texture_dimension_3d),
+            });
+        }
+        let counter_bytes = u64::from(res).pow(3) * 4;
+        let limit = ctx.caps.max_storage_binding.min(ctx.caps.max_buffer_size);
+        if counter_bytes > limit {
+            return Err(RenderError::Limit {
+                what: format!("a voxel counter buffer of a {res}³ volume"),
+                needed: counter_bytes,
+                limit,
+            });
+        }
+        let blocks = u64::from(res.div_ceil(OCCUPANCY_BLOCK)).pow(3) * 4;
+        ctx.scoped("allocating the volume", || {
+            use wgpu::BufferUsages as U;
+            let storage = U::STORAGE | U::COPY_DST | U::COPY_SRC;
+            let keys = buffer(ctx, "volume/bounds/keys", 32, storage);
+            let grid = buffer(ctx, "volume/bounds/grid", 64, storage);
+            let grid_uniform = buffer(ctx, "volume/grid/uniform", 64, U::UNIFORM | U::COPY_DST);
+            let counts = buffer(ctx, "volume/voxelize/counts", counter_bytes, storage);
+            let tangent_xy = buffer(ctx, "volume/voxelize/tangent-xy", counter_bytes, storage);
+            let tangent_z = buffer(ctx, "volume/voxelize/tangent-z", counter_bytes, storage);
+            let stats = buffer(ctx, "volume/voxelize/stats", 16, storage);
+            let occupancy = buffer(ctx, "volume/resolve/occupancy", blocks, storage);
+            let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("volume/resolve/texture"),
+                size: wgpu::Extent3d {
+                    width: res,
+                    height: res,
+                    depth_or_array_layers: res,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D3,
+                format: VOLUME_FORMAT,
+                usage: wgpu::TextureUsages::STORAGE_BINDING
+                    | wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            });
+            let view = texture.create_view(&wgpu::TextureViewDescriptor {
+                label: Some("volume/resolve/texture-view"),
+                ..Default::default()
+            });
+            let group =
+                |label: &str, layout: &wgpu::BindGroupLayout, e: &[wgpu::BindGroupEntry<'_>]| {
+                    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some(label),
+                        layout,
+                        entries: e,
+                    })
+                };
+            let bounds_group = group(
+                "volume/volume_bounds/bind-group",
+                &bounds.layout,
+                &entries(&[params, &keys, &grid]),
+            );
+            let voxelize_group = group(
+                "volume/voxelize/bind-group",
+                &voxelize.layout,
+                &entries(&[params, &grid, &counts, &tangent_xy, &tangent_z, &stats]),
+            );
+            let mut e = entries(&[params, &grid, &counts, &tangent_xy, &tangent_z]);
+            e.push(wgpu::BindGroupEntry {
+                binding: 5,
+                resource: wgpu::BindingResource::TextureView(&view),
+            });
+            e.push(wgpu::BindGroupEntry {
+                binding: 6,
+                resource: occupancy.as_entire_binding(),
+            });
+            let resolve_group = group("volume/volume_resolve/bind-group", &resolve.layout, &e);
+            Grid {
+                res,
+                keys,
+                grid,
+                grid_uniform,
+                counts,
+                tangent_xy,
+                tangent_z,
+                stats,
+                occupancy,
+                texture,
+                view,
+                bounds_group,
+                voxelize_group,
+                resolve_group,
+            }
+        })
+    }
+
+    /// Reallocate for another resolution (no-op when it is the same).
+    pub fn set_resolution(&mut self, ctx: &GpuContext, resolution: u32) -> Result<(), RenderError> {
+        if resolution != self.grid.res {
+            self.grid = Self::allocate(
+                ctx,
+                &self.bounds,
+                &self.voxelize,
+                &self.resolve,
+                &self.params,
+                resolution,
+            )?;
+        }
+        Ok(())
+    }
+
+    /// Voxels per axis.
+    pub fn resolution(&self) -> u32 {
+        self.grid.res
+    }
+
+    /// Bytes of counters, texture and occupancy.
+    pub fn bytes(&self) -> u64 {
+        VolumeSettings {
+            resolution: self.grid.res,
+            ..Default::default()
+        }
+        .bytes()
+    }
+
+    /// The volume texture's view (rgb mean tangent, a density).
+    pub fn view(&self) -> &wgpu::TextureView {
+        &self.grid.view
+    }
+
+    /// The uniform copy of the grid fitted in the last frame.
+    pub(crate) fn grid_uniform(&self) -> &wgpu::Buffer {
+        &self.grid.grid_uniform
+    }
+
+    /// The occupancy blocks (read by the raymarcher's empty-space skipping).
+    pub(crate) fn occupancy(&self) -> &wgpu::Buffer {
+        &self.grid.occupancy
+    }
+
+    /// The deposit/drop counters (copied into the frame's statistics).
+    pub(crate) fn stats_buffer(&self) -> &wgpu::Buffer {
+        &self.grid.stats
+    }
+
+    /// Record a whole voxelization of `geometry` (clear, bounds, voxelize, resolve, grid copy).
+    /// The [`VolumeParams`] uniform must describe this geometry and resolution.
+    pub(crate) fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        geometry: &StrandGeometry,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let g = &self.grid;
+        for b in [
+            &g.counts,
+            &g.tangent_xy,
+            &g.tangent_z,
+            &g.stats,
+            &g.occupancy,
+        ] {
+            encoder.clear_buffer(b, 0, None);
+        }
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("volume/voxelize/pass"),
+                timestamp_writes: timestamps,
+            });
+            self.bounds.encode(&mut pass, &g.bounds_group, geometry);
+            self.voxelize.encode(&mut pass, &g.voxelize_group, geometry);
+            self.resolve.encode(&mut pass, &g.resolve_group, g.res);
+        }
+        encoder.copy_buffer_to_buffer(&g.grid, 0, &g.grid_uniform, 0, Some(64));
+    }
+
+    /// The [`VolumeParams`] of a voxelization of `geometry` with `settings` (the raymarching and
+    /// shading fields at their defaults; the renderer fills those per frame).
+    pub fn params(settings: &VolumeSettings, geometry: &StrandGeometry) -> VolumeParams {
+        VolumeParams {
+            steps: settings.steps,
+            iso: settings.iso,
+            skip_empty: u32::from(settings.skip_empty),
+            shadow_alpha: settings.shadow_alpha,
+            shadow_step: settings.shadow_step,
+            shadow_offset: settings.shadow_offset,
+            ao_radius: settings.ao_radius,
+            ao_samples: settings.ao_samples,
+            ao_intensity: settings.ao_intensity,
+            voxelize: match settings.voxelize {
+                tress_shading::VoxelizeMode::Vertices => 0,
+                tress_shading::VoxelizeMode::Segments => 1,
+            },
+            reconstruction_radius: settings.reconstruction_radius,
+            capacity: settings.max_strands_per_voxel,
+            mean_segment_length: geometry.mean_segment_length(),
+            segment_count: geometry.segment_count(),
+            vertex_count: geometry.vertex_count(),
+            occupancy_res: settings.resolution.div_ceil(OCCUPANCY_BLOCK),
+            resolution: settings.resolution,
+            march_shadows: u32::from(settings.shadows),
+            march_ao: u32::from(settings.ao),
+            ..Default::default()
+        }
+    }
+
+    /// Voxelize `geometry` with `settings` now (writes the params uniform, submits, waits) and
+    /// return the counters' statistics. For tools and tests; the renderer records
+    /// the same work into its frame.
+    pub fn voxelize(
+        &mut self,
+        ctx: &GpuContext,
+        geometry: &StrandGeometry,
+        settings: &VolumeSettings,
+    ) -> Result<VolumeStats, RenderError> {
+        settings.validate()?;
+        self.set_resolution(ctx, settings.resolution)?;
+        let params = Self::params(settings, geometry);
+        ctx.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        ctx.scoped("voxelizing", || {
+            let mut encoder = ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("volume/voxelizer/encoder"),
+                });
+            self.encode(&mut encoder, geometry, None);
+            ctx.queue.submit([encoder.finish()]);
+        })?;
+        let s: VoxelStats = bytemuck::pod_read_unaligned(&self.read(ctx, &self.grid.stats, 16)?);
+        Ok(VolumeStats {
+            deposits: s.deposits,
+            dropped: s.dropped,
+        })
+    }
+
+    fn read(
+        &self,
+        ctx: &GpuContext,
+        src: &wgpu::Buffer,
+        size: u64,
+    ) -> Result<Vec<u8>, RenderError> {
+        let staging = ctx.scoped("volume readback", || {
+            let staging = buffer(
+                ctx,
+                "volume/readback/staging",
+                size,
+                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            );
+            let mut encoder = ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("volume/readback/encoder"),
+                });
+            encoder.copy_buffer_to_buffer(src, 0, &staging, 0, Some(size));
+            ctx.queue.submit([encoder.finish()]);
+            staging
+        })?;
+        read_buffer(ctx, &staging, 0..size)
+    }
+
+    /// Read every buffer and the texture back (slow: for tests and tools).
+    pub fn read_back(&self, ctx: &GpuContext) -> Result<VolumeReadback, RenderError> {
+        let g = &self.grid;
+        let n = u64::from(g.res).pow(3);
+        let words = |b: &wgpu::Buffer| -> Result<Vec<u32>, RenderError> {
+            Ok(bytemuck::cast_slice(&self.read(ctx, b, n * 4)?).to_vec())
+        };
+        let counts = words(&g.counts)?;
+        let xy = words(&g.tangent_xy)?;
+        let z = words(&g.tangent_z)?;
+        let blocks = u64::from(g.res.div_ceil(OCCUPANCY_BLOCK)).pow(3);
+        let occupancy = bytemuck::cast_slice(&self.read(ctx, &g.occupancy, blocks * 4)?).to_vec();
+        let grid = bytemuck::pod_read_unaligned(&self.read(ctx, &g.grid, 64)?);
+        let keys = bytemuck::pod_read_unaligned(&self.read(ctx, &g.keys, 24)?);
+        let stats = bytemuck::pod_read_unaligned(&self.read(ctx, &g.stats, 16)?);
+        // The texture, row by row with the copy alignment.
+        let row = g.res * 8;
+        let padded =
+            row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let size = u64::from(padded) * u64::from(g.res) * u64::from(g.res);
+        let staging = ctx.scoped("volume texture readback", || {
+            let staging = buffer(
+                ctx,
+                "volume/readback/texture",
+                size,
+                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            );
+            let mut encoder = ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("volume/readback/texture-encoder"),
+                });
+            encoder.copy_texture_to_buffer(
+                g.texture.as_image_copy(),
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &staging,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(padded),
+                        rows_per_image: Some(g.res),
+                    },
+                },
+                g.texture.size(),
+            );
+            ctx.queue.submit([encoder.finish()]);
+            staging
+        })?;
+        let bytes = read_buffer(ctx, &staging, 0..size)?;
+        let mut texels = Vec::with_capacity(n as usize);
+        for r in 0..(g.res * g.res) as usize {
+            let line = &bytes[r * padded as usize..r * padded as usize + row as usize];
+            for t in line.chunks_exact(8) {
+                let h = |i: usize| f16_to_f32(u16::from_le_bytes([t[2 * i], t[2 * i + 1]]));
+                texels.push([h(0), h(1), h(2), h(3)]);
+            }
+        }
+        Ok(VolumeReadback {
+            grid,
+            keys,
+            counts,
+            tangent_sums: xy
+                .iter()
+                .zip(&z)
+                .map(|(&xy, &z)| [xy & 0xffff, xy >> 16, z])
+                .collect(),
+            texels,
+            occupancy,
+            stats,
+        })
+    }
+}

@@ -1,0 +1,51 @@
+// Test harness: evaluates the functions of common/volume.wgsl on a grid of inputs (one invocation
+// per case) over a small density volume, so tests/volume_shading_gpu.rs can compare them with the
+// CPU twins in tress_shading::volume and tress_shading::voxelize.
+
+#include "common/volume.wgsl"
+
+struct Case {
+    // voxel position, a step (voxels)
+    x: vec4f,
+    // unit direction, an offset (voxels)
+    l: vec4f,
+    // ao radius, ao samples, intensity, alpha
+    ao: vec4f,
+    // strands, iso, distance, near
+    s: vec4f,
+    // far, pixel x, pixel y, integer input
+    p: vec4f,
+}
+
+@group(0) @binding(0) var<storage, read> cases: array<Case>;
+@group(0) @binding(1) var<storage, read_write> results: array<vec4f>;
+@group(0) @binding(2) var volume: texture_3d<f32>;
+@group(0) @binding(3) var volume_sampler: sampler;
+
+const OUTPUTS: u32 = 6u;
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3u) {
+    let i = id.x;
+    if i >= arrayLength(&cases) {
+        return;
+    }
+    let c = cases[i];
+    let o = i * OUTPUTS;
+    let res = f32(textureDimensions(volume).x);
+    let x = c.x.xyz;
+    let l = c.l.xyz;
+    let n = u32(c.p.w);
+    results[o + 0u] = vec4f(
+        volume_shadow_strands(volume, volume_sampler, res, x, l, c.x.w, c.l.w),
+        volume_ao(volume, volume_sampler, res, x, c.ao.x, u32(c.ao.y), c.ao.z, c.ao.w),
+        volume_density(volume, volume_sampler, res, x),
+        fake_transparency_alpha(c.s.x, c.s.y));
+    results[o + 1u] = vec4f(density_gradient(volume, volume_sampler, res, x), lod_factor(c.s.z, c.s.w, c.p.x));
+    results[o + 2u] = vec4f(
+        density_normal(density_gradient(volume, volume_sampler, res, x), vec3f(0.0, 0.0, 1.0)),
+        dither_threshold(vec2u(u32(c.p.y), u32(c.p.z))));
+    results[o + 3u] = vec4f(ao_offset(n % 64u, 64u), f32(isqrt(n * 977u)));
+    results[o + 4u] = vec4f(vec3f(quantize_tangent(l)), f32(voxel_hash(n) & 0xffffu));
+    results[o + 5u] = vec4f(ray_box(x, l, vec3f(2.0), vec3f(res - 3.0)), dequantize_tangent(vec3f(200.0, 30.0, 510.0), 2.0).xy);
+}

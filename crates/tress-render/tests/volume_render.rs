@@ -1,0 +1,389 @@
+//! The volume raymarcher and the hybrid level of detail through `Renderer` (Jansson 2019 §3.3,
+//! §3.4, §4): the isosurface stops at the head, empty-space skipping changes nothing, LOD 0 is the
+//! strand renderer and LOD 1 the raymarcher exactly, the alpha and dithered transitions mix the
+//! two, volume shadows and AO reach the rasterizer, and the frame reports its volume.
+
+mod common;
+
+use glam::Vec3;
+use tress_render::{
+    COLOR_FORMAT, Camera, DirectionalLight, FrameInputs, FrameStats, GpuContext, HeadGeometry,
+    HeadMesh, HybridSettings, LinearImage, Material, OffscreenTargets, Renderer, ShadowMode,
+    StrandGeometry, StrandSettings, TargetFormats, Technique, Timings, Transition, VolumeSettings,
+    read_texture,
+};
+
+const SIZE: u32 = 96;
+
+/// Settings at the test scene's scale (head radius 1, about 10 cm).
+fn strands() -> StrandSettings {
+    StrandSettings {
+        shadow_r: 40.0,
+        shadow_bias: 0.005,
+        ..Default::default()
+    }
+}
+
+fn volume() -> VolumeSettings {
+    VolumeSettings {
+        resolution: 48,
+        steps: 128,
+        ao_radius: 0.1,
+        ..Default::default()
+    }
+}
+
+struct Scene {
+    ctx: GpuContext,
+    renderer: Renderer,
+    hair: StrandGeometry,
+    head: HeadGeometry,
+    targets: OffscreenTargets,
+}
+
+fn scene() -> Scene {
+    let ctx = common::gpu().expect("checked by the caller");
+    let mut renderer = Renderer::new(&ctx, TargetFormats::default(), strands()).expect("renderer");
+    renderer
+        .set_volume_settings(&ctx, volume())
+        .expect("volume settings");
+    let hair = renderer
+        .upload_hair(&ctx, &common::sphere_hair(1.0, 1200, 12))
+        .expect("hair");
+    let head =
+        HeadGeometry::new(&ctx, &HeadMesh::uv_sphere(Vec3::ZERO, 0.97, 24, 32)).expect("head");
+    let targets = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
+    Scene {
+        ctx,
+        renderer,
+        hair,
+        head,
+        targets,
+    }
+}
+
+fn camera(distance: f32) -> Camera {
+    let dir = Vec3::new(2.6, 1.2, 4.4).normalize();
+    Camera::look_at(
+        dir * distance,
+        Vec3::new(0.0, -0.45, 0.0),
+        Vec3::Y,
+        45f32.to_radians(),
+        0.1,
+        100.0,
+        [SIZE, SIZE],
+    )
+}
+
+fn key_light() -> DirectionalLight {
+    DirectionalLight {
+        direction: Vec3::new(0.6, -0.6, -0.5),
+        color: Vec3::ONE,
+        intensity: 2.5,
+    }
+}
+
+impl Scene {
+    fn render(&mut self, camera: Camera, head: bool) -> (LinearImage, FrameStats) {
+        let lights = [key_light()];
+        let inputs = FrameInputs {
+            camera,
+            lights: &lights,
+            ambient: Vec3::splat(0.06),
+            material: Material::default(),
+            hair: Some(&self.hair),
+            head: head.then_some(&self.head),
+            clear: Some(wgpu::Color {
+                r: 0.15,
+                g: 0.16,
+                b: 0.18,
+                a: 1.0,
+            }),
+        };
+        let stats = self
+            .renderer
+            .render(&self.ctx, &self.targets.targets(), &inputs)
+            .expect("frame");
+        let image = read_texture(&self.ctx, &self.targets.color).expect("readback");
+        (image, stats)
+    }
+}
+
+fn background() -> [f32; 4] {
+    [0.15, 0.16, 0.18, 1.0]
+}
+
+fn differs(a: [f32; 4], b: [f32; 4]) -> bool {
+    a.iter().zip(&b).any(|(x, y)| (x - y).abs() > 2e-3)
+}
+
+fn save(name: &str, image: &LinearImage) {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("volume");
+    std::fs::create_dir_all(&dir).expect("tmp dir");
+    image
+        .save_png(dir.join(format!("{name}.png")))
+        .expect("png");
+}
+
+#[test]
+fn raymarcher_draws_the_hair_and_stops_at_the_head() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let mut s = scene();
+    s.renderer.set_technique(Technique::Volume);
+    let (hair, stats) = s.render(camera(5.0), false);
+    save("volume", &hair);
+    let hair_pixels = hair
+        .pixels
+        .iter()
+        .filter(|p| differs(**p, background()))
+        .count();
+    assert!(hair_pixels > (SIZE * SIZE / 10) as usize, "{hair_pixels}");
+    assert_eq!(stats.lod, 1.0);
+    let v = stats.volume.expect("the frame voxelized");
+    assert_eq!(v.resolution, 48);
+    let gpu = stats.gpu.expect("stats");
+    let counters = gpu.volume.expect("voxel counters");
+    assert!(
+        counters.deposits > 1000 && counters.dropped == 0,
+        "{counters:?}"
+    );
+    assert_eq!(gpu.ppll.requested, 0, "no strand pass ran");
+    if let Timings::Passes(p) = &gpu.timings {
+        let names: Vec<&str> = p.iter().map(|t| t.name).collect();
+        assert_eq!(names, ["volume/voxelize", "head", "volume/raymarch"]);
+    }
+
+    // An opaque ball between the eye and the hair: where it covers the view, the march stops at
+    // its depth and the pixel is the ball alone (shadows off, so the ball is shaded alike).
+    s.renderer
+        .set_settings(
+            &s.ctx,
+            StrandSettings {
+                shadows: false,
+                ..strands()
+            },
+        )
+        .expect("settings");
+    s.renderer
+        .set_volume_settings(
+            &s.ctx,
+            VolumeSettings {
+                shadows: false,
+                ..volume()
+            },
+        )
+        .expect("settings");
+    let cam = camera(5.0);
+    let ball = cam.eye() * 0.55 + Vec3::new(0.0, -0.3, 0.0) * 0.45;
+    s.head = HeadGeometry::new(&s.ctx, &HeadMesh::uv_sphere(ball, 0.35, 16, 24)).expect("ball");
+    let (both, _) = s.render(cam, true);
+    save("volume_ball", &both);
+    let lights = [key_light()];
+    let ball_only = {
+        let inputs = FrameInputs {
+            camera: cam,
+            lights: &lights,
+            ambient: Vec3::splat(0.06),
+            material: Material::default(),
+            hair: None,
+            head: Some(&s.head),
+            clear: Some(wgpu::Color {
+                r: 0.15,
+                g: 0.16,
+                b: 0.18,
+                a: 1.0,
+            }),
+        };
+        s.renderer
+            .render(&s.ctx, &s.targets.targets(), &inputs)
+            .expect("frame");
+        read_texture(&s.ctx, &s.targets.color).expect("readback")
+    };
+    let mut covered = 0;
+    for (i, (b, o)) in both.pixels.iter().zip(&ball_only.pixels).enumerate() {
+        if differs(*o, background()) {
+            covered += 1;
+            assert!(!differs(*b, *o), "pixel {i}: {b:?} vs the ball alone {o:?}");
+        }
+    }
+    assert!(covered > 200, "{covered}");
+    // ...and elsewhere the hair is still drawn.
+    let hair_left = both
+        .pixels
+        .iter()
+        .zip(&ball_only.pixels)
+        .filter(|(b, o)| differs(**b, **o))
+        .count();
+    assert!(hair_left > 200, "{hair_left}");
+}
+
+#[test]
+fn empty_space_skipping_gives_the_same_image() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let mut s = scene();
+    s.renderer.set_technique(Technique::Volume);
+    let (plain, _) = s.render(camera(6.0), true);
+    s.renderer
+        .set_volume_settings(
+            &s.ctx,
+            VolumeSettings {
+                skip_empty: true,
+                ..volume()
+            },
+        )
+        .expect("settings");
+    let (skipping, _) = s.render(camera(6.0), true);
+    assert_eq!(plain.pixels, skipping.pixels);
+    assert!(plain.pixels.iter().any(|p| differs(*p, background())));
+}
+
+#[test]
+fn lod_0_is_the_strand_renderer_and_lod_1_the_raymarcher() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let mut s = scene();
+    let cam = camera(5.0);
+    let (strands, _) = s.render(cam, true);
+    s.renderer.set_technique(Technique::Volume);
+    let (volume, _) = s.render(cam, true);
+    s.renderer.set_technique(Technique::Hybrid);
+    let fixed = |lod| HybridSettings {
+        lod: Some(lod),
+        ..Default::default()
+    };
+    s.renderer.set_hybrid_settings(fixed(0.0)).expect("settings");
+    let (lod0, stats0) = s.render(cam, true);
+    s.renderer.set_hybrid_settings(fixed(1.0)).expect("settings");
+    let (lod1, stats1) = s.render(cam, true);
+    assert_eq!(lod0.pixels, strands.pixels, "lod 0 = strands");
+    assert_eq!(lod1.pixels, volume.pixels, "lod 1 = volume");
+    assert!(stats0.volume.is_none() && stats1.volume.is_some());
+    // The two renderers do differ (the equalities above are not trivial).
+    let d = strands
+        .pixels
+        .iter()
+        .zip(&volume.pixels)
+        .filter(|(a, b)| differs(**a, **b))
+        .count();
+    assert!(d > 100, "{d}");
+
+    // By distance: near shows strands, far the volume.
+    s.renderer
+        .set_hybrid_settings(HybridSettings {
+            near: 6.0,
+            far: 9.0,
+            ..Default::default()
+        })
+        .expect("settings");
+    let (near, near_stats) = s.render(camera(5.0), true);
+    assert_eq!(near_stats.lod, 0.0);
+    assert_eq!(near.pixels, strands.pixels);
+    let (_, far_stats) = s.render(camera(10.0), true);
+    assert_eq!(far_stats.lod, 1.0);
+    let mid = camera(7.5);
+    let d = mid.eye().distance(s.hair.bounds.0);
+    let (_, mid_stats) = s.render(mid, true);
+    assert!(mid_stats.lod > 0.05 && mid_stats.lod < 0.95, "{}", mid_stats.lod);
+    let want = tress_shading::lod_factor(d, 6.0, 9.0);
+    assert!((mid_stats.lod - want).abs() < 1e-5, "{} vs {want}", mid_stats.lod);
+}
+
+#[test]
+fn transitions_mix_the_two_renderers() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let mut s = scene();
+    let cam = camera(5.0);
+    let (strands, _) = s.render(cam, true);
+    s.renderer.set_technique(Technique::Volume);
+    let (volume, _) = s.render(cam, true);
+    s.renderer.set_technique(Technique::Hybrid);
+    for transition in [Transition::Alpha, Transition::Dither] {
+        s.renderer
+            .set_hybrid_settings(HybridSettings {
+                lod: Some(0.5),
+                transition,
+                ..Default::default()
+            })
+            .expect("settings");
+        let (mixed, stats) = s.render(cam, true);
+        save(&format!("hybrid_{}", transition.name()), &mixed);
+        assert!(stats.gpu.expect("stats").timings.get("lod/blend").is_some() || !s.ctx.caps.timestamps);
+        let (mut from_volume, mut differing) = (0, 0);
+        for ((m, a), b) in mixed.pixels.iter().zip(&strands.pixels).zip(&volume.pixels) {
+            // Half-float targets: a few 1e-3 of rounding through the extra layer.
+            let near = |x: [f32; 4], y: [f32; 4]| x.iter().zip(&y).all(|(p, q)| (p - q).abs() <= 4e-3);
+            match transition {
+                Transition::Alpha => {
+                    let want = [0, 1, 2, 3].map(|k| 0.5 * (a[k] + b[k]));
+                    assert!(near(*m, want), "{m:?} vs {want:?}");
+                }
+                Transition::Dither => {
+                    assert!(near(*m, *a) || near(*m, *b), "{m:?} is neither {a:?} nor {b:?}");
+                    if differs(*a, *b) {
+                        differing += 1;
+                        if near(*m, *b) {
+                            from_volume += 1;
+                        }
+                    }
+                }
+            }
+        }
+        if transition == Transition::Dither {
+            // Factor 0.5: half of the Bayer thresholds are below it.
+            let share = from_volume as f32 / differing as f32;
+            assert!((0.35..=0.65).contains(&share), "{from_volume} of {differing}");
+        }
+    }
+}
+
+#[test]
+fn volume_shadows_and_ao_reach_the_rasterizer() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let mut s = scene();
+    let cam = camera(5.0);
+    let mean = |img: &LinearImage| -> f32 {
+        img.pixels.iter().map(|p| p[0] + p[1] + p[2]).sum::<f32>() / img.pixels.len() as f32
+    };
+    let unshadowed = StrandSettings {
+        shadows: false,
+        ..strands()
+    };
+    s.renderer.set_settings(&s.ctx, unshadowed.clone()).expect("settings");
+    let (lit, lit_stats) = s.render(cam, true);
+    assert!(lit_stats.volume.is_none());
+    let volume_shadows = StrandSettings {
+        shadow_mode: ShadowMode::Volume,
+        ..strands()
+    };
+    s.renderer.set_settings(&s.ctx, volume_shadows).expect("settings");
+    let (shadowed, stats) = s.render(cam, true);
+    save("strands_volume_shadows", &shadowed);
+    assert!(stats.volume.is_some(), "the rasterizer's volume shadows voxelize");
+    let gpu = stats.gpu.expect("stats");
+    if let Timings::Passes(p) = &gpu.timings {
+        let names: Vec<&str> = p.iter().map(|t| t.name).collect();
+        // No shadow maps with volume shadows.
+        assert_eq!(
+            names,
+            ["volume/voxelize", "head", "strands/ppll_build", "strands/ppll_resolve"]
+        );
+    }
+    assert!(mean(&shadowed) < 0.9 * mean(&lit), "{} vs {}", mean(&shadowed), mean(&lit));
+    let with_ao = StrandSettings {
+        ao: true,
+        ..unshadowed
+    };
+    s.renderer.set_settings(&s.ctx, with_ao).expect("settings");
+    let (occluded, _) = s.render(cam, true);
+    save("strands_volume_ao", &occluded);
+    assert!(mean(&occluded) < 0.97 * mean(&lit), "{} vs {}", mean(&occluded), mean(&lit));
+}

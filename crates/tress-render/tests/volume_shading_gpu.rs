@@ -1,0 +1,334 @@
+//! Design rule 6 for the volume: the functions of `shaders/common/volume.wgsl` (volume shadows,
+//! local ambient occlusion, density gradient and normal, fake transparency, LOD factor and dither,
+//! tangent quantization, hashing) evaluated on the GPU over a grid of inputs and a small density
+//! volume sampled by the hardware's trilinear filter, against the CPU twins in
+//! `tress_shading::volume` / `tress_shading::voxelize`.
+
+mod common;
+
+use bytemuck::{Pod, Zeroable};
+use glam::{UVec2, Vec3};
+use tress_render::gpu::read_buffer;
+use tress_render::shaders;
+use tress_shading::{self as cpu, DensityVolume};
+use wgpu::util::DeviceExt;
+
+const RES: u32 = 16;
+const CASES: usize = 256;
+const OUTPUTS: usize = 6;
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+struct Case {
+    x: [f32; 4],
+    l: [f32; 4],
+    ao: [f32; 4],
+    s: [f32; 4],
+    p: [f32; 4],
+}
+
+/// xorshift, so the grid is the same on every run.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f32 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * self.next()
+    }
+    fn unit(&mut self) -> Vec3 {
+        loop {
+            let p = Vec3::new(
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+            );
+            if p.length() > 0.1 && p.length() <= 1.0 {
+                return p.normalize();
+            }
+        }
+    }
+}
+
+/// A blobby density volume with values in quarter steps (exact in half floats).
+fn densities() -> Vec<f32> {
+    let mut d = Vec::with_capacity((RES * RES * RES) as usize);
+    let c = Vec3::splat(RES as f32 * 0.5);
+    for z in 0..RES {
+        for y in 0..RES {
+            for x in 0..RES {
+                let p = Vec3::new(x as f32, y as f32, z as f32) + 0.5;
+                let r = p.distance(c + Vec3::new(1.5, -1.0, 0.5));
+                let wave = ((x * 7 + y * 3 + z * 5) % 5) as f32;
+                let v = if r < 6.0 { (6.0 - r) * 2.0 + wave } else { 0.0 };
+                d.push((v * 4.0).round() / 4.0);
+            }
+        }
+    }
+    d
+}
+
+/// IEEE half-float bits of a value exactly representable as one (normal or zero).
+fn f16_bits(v: f32) -> u16 {
+    if v == 0.0 {
+        return 0;
+    }
+    let b = v.to_bits();
+    let sign = ((b >> 16) & 0x8000) as u16;
+    let exp = ((b >> 23) & 0xff) as i32 - 127 + 15;
+    let mantissa = ((b >> 13) & 0x3ff) as u16;
+    assert!(
+        (1..31).contains(&exp) && b & 0x1fff == 0,
+        "{v} is not a half float"
+    );
+    sign | ((exp as u16) << 10) | mantissa
+}
+
+fn cases() -> Vec<Case> {
+    let mut rng = Rng(0x5eed_1234_abcd_ef01);
+    (0..CASES)
+        .map(|i| {
+            let x = Vec3::new(
+                rng.range(2.0, 14.0),
+                rng.range(2.0, 14.0),
+                rng.range(2.0, 14.0),
+            );
+            let l = rng.unit();
+            Case {
+                x: x.extend([0.5, 1.0, 0.75][i % 3]).to_array(),
+                l: l.extend(rng.range(0.0, 2.0)).to_array(),
+                ao: [
+                    rng.range(0.5, 4.0),
+                    (1 + i % 24) as f32,
+                    rng.range(0.0, 2.0),
+                    rng.next(),
+                ],
+                s: [
+                    rng.range(0.0, 6.0),
+                    [0.0, 1.0, 4.0][i % 3],
+                    rng.range(0.0, 30.0),
+                    10.0,
+                ],
+                p: [
+                    if i % 7 == 0 { 10.0 } else { 20.0 },
+                    (i % 13) as f32,
+                    (i % 9) as f32,
+                    (i * 37 % 50_000) as f32,
+                ],
+            }
+        })
+        .collect()
+}
+
+fn run(ctx: &tress_render::GpuContext, cases: &[Case], density: &[f32]) -> Vec<[f32; 4]> {
+    let text = shaders::compose_source("tests/volume_gpu.wgsl", include_str!("volume_gpu.wgsl"))
+        .expect("composes");
+    let module = ctx
+        .device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("test/volume/shader"),
+            source: wgpu::ShaderSource::Wgsl(text.into()),
+        });
+    let pipeline = ctx
+        .device
+        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("test/volume/pipeline"),
+            layout: None,
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+    // rgb: a tangent-like filler, a: the density.
+    let texels: Vec<u16> = density
+        .iter()
+        .flat_map(|&d| [f16_bits(0.5), 0, f16_bits(-0.5), f16_bits(d)])
+        .collect();
+    let size = wgpu::Extent3d {
+        width: RES,
+        height: RES,
+        depth_or_array_layers: RES,
+    };
+    let texture = ctx.device.create_texture_with_data(
+        &ctx.queue,
+        &wgpu::TextureDescriptor {
+            label: Some("test/volume/texture"),
+            size,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D3,
+            format: tress_render::volume::VOLUME_FORMAT,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytemuck::cast_slice(&texels),
+    );
+    let sampler = ctx.device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("test/volume/sampler"),
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        ..Default::default()
+    });
+    let input = ctx
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("test/volume/cases"),
+            contents: bytemuck::cast_slice(cases),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+    let bytes = (cases.len() * OUTPUTS * 16) as u64;
+    let output = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("test/volume/results"),
+        size: bytes,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("test/volume/staging"),
+        size: bytes,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("test/volume/bind-group"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: output.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(
+                    &texture.create_view(&Default::default()),
+                ),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: wgpu::BindingResource::Sampler(&sampler),
+            },
+        ],
+    });
+    let mut encoder = ctx
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("test/volume/encoder"),
+        });
+    {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("test/volume/pass"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups((cases.len() as u32).div_ceil(64), 1, 1);
+    }
+    encoder.copy_buffer_to_buffer(&output, 0, &staging, 0, Some(bytes));
+    ctx.queue.submit([encoder.finish()]);
+    bytemuck::cast_slice(&read_buffer(ctx, &staging, 0..bytes).expect("readback")).to_vec()
+}
+
+/// `|gpu - cpu| <= abs + rel · |cpu|`, with a message naming the quantity and the case.
+fn close(what: &str, i: usize, gpu: f32, cpu: f32, abs: f32, rel: f32) {
+    assert!(
+        (gpu - cpu).abs() <= abs + rel * cpu.abs(),
+        "{what}, case {i}: GPU {gpu} vs CPU {cpu}"
+    );
+}
+
+#[test]
+fn volume_functions_match_the_cpu_twins() {
+    let Some(ctx) = common::gpu() else {
+        return;
+    };
+    let density = densities();
+    let vol = DensityVolume::new(RES, &density).expect("volume");
+    let cases = cases();
+    let out = run(&ctx, &cases, &density);
+    // The hardware filter weighs texels with 8 fractional bits on lavapipe (Vulkan asks for at
+    // least 4): a sample can be off by a 1/16 of the step between neighbours in the worst case.
+    // The tolerances below allow that; the exact functions are compared exactly.
+    for (i, c) in cases.iter().enumerate() {
+        let r = &out[i * OUTPUTS..(i + 1) * OUTPUTS];
+        let x = Vec3::from_slice(&c.x);
+        let l = Vec3::from_slice(&c.l);
+        let n = c.p[3] as u32;
+        let shadow = cpu::volume_shadow_strands(&vol, x, l, c.x[3], c.l[3]);
+        close("volume_shadow_strands", i, r[0][0], shadow, 0.3, 0.03);
+        let ao = cpu::volume_ao(&vol, x, c.ao[0], c.ao[1] as u32, c.ao[2], c.ao[3]);
+        close("volume_ao", i, r[0][1], ao, 0.02, 0.05);
+        close("volume_density", i, r[0][2], vol.sample(x), 0.1, 0.02);
+        assert_eq!(
+            r[0][3],
+            cpu::fake_transparency_alpha(c.s[0], c.s[1]),
+            "case {i}"
+        );
+        let g = cpu::density_gradient(&vol, x);
+        for k in 0..3 {
+            close("density_gradient", i, r[1][k], g[k], 0.1, 0.03);
+        }
+        close(
+            "lod_factor",
+            i,
+            r[1][3],
+            cpu::lod_factor(c.s[2], c.s[3], c.p[0]),
+            1e-5,
+            0.0,
+        );
+        if g.length() > 1.0 {
+            let nrm = cpu::density_normal(g, Vec3::Z);
+            let dot = Vec3::new(r[2][0], r[2][1], r[2][2]).dot(nrm);
+            assert!(dot > 0.99, "density_normal, case {i}: {dot}");
+        }
+        let px = UVec2::new(c.p[1] as u32, c.p[2] as u32);
+        assert_eq!(r[2][3], cpu::dither_threshold(px), "case {i}");
+        let off = cpu::ao_offset(n % 64, 64);
+        for k in 0..3 {
+            close("ao_offset", i, r[3][k], off[k], 1e-4, 0.0);
+        }
+        assert_eq!(
+            r[3][3],
+            cpu::voxelize::isqrt(n * 977) as f32,
+            "isqrt, case {i}"
+        );
+        let q = cpu::quantize_tangent(l);
+        assert_eq!(
+            [r[4][0], r[4][1], r[4][2]],
+            q.as_vec3().to_array(),
+            "case {i}"
+        );
+        assert_eq!(r[4][3], (cpu::voxel_hash(n) & 0xffff) as f32, "case {i}");
+        let (t0, t1) = cpu::ray_box(x, l, Vec3::splat(2.0), Vec3::splat(RES as f32 - 3.0));
+        close("ray_box", i, r[5][0], t0, 1e-4, 1e-5);
+        close("ray_box", i, r[5][1], t1, 1e-4, 1e-5);
+        let m = cpu::dequantize_tangent(Vec3::new(200.0, 30.0, 510.0), 2.0);
+        close("dequantize_tangent", i, r[5][2], m.x, 1e-6, 0.0);
+        close("dequantize_tangent", i, r[5][3], m.y, 1e-6, 0.0);
+    }
+    // The grid is not trivial: the shadow rays met strands, the AO varied.
+    let shadows: f32 = cases
+        .iter()
+        .enumerate()
+        .map(|(i, _)| out[i * OUTPUTS][0])
+        .sum();
+    assert!(shadows > 100.0, "{shadows}");
+}
+
+#[test]
+fn volume_harness_validates() {
+    let text = shaders::compose_source("tests/volume_gpu.wgsl", include_str!("volume_gpu.wgsl"))
+        .expect("composes");
+    let module = naga::front::wgsl::parse_str(&text).expect("parses");
+    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), Default::default())
+        .validate(&module)
+        .expect("validates");
+}

@@ -1,0 +1,276 @@
+//! The GPU voxelizer against its CPU reference (`tress_shading::voxelize`, Jansson 2019 §3.3):
+//! the AABB and grid, the exact per-voxel strand counts in both modes, the mean tangents within
+//! the quantization error, the resolve into the 3D texture and the occupancy blocks, and the
+//! capacity check with its drop counter (design rule 8).
+
+mod common;
+
+use glam::{UVec3, Vec3};
+use tress_hair::HairAsset;
+use tress_render::volume::{VolumeReadback, VolumeSettings, Voxelizer};
+use tress_render::{RenderError, StrandGeometry, VoxelizeMode};
+use tress_shading::voxelize::{self, SUBVOXEL_BITS, VoxelCounts, VoxelGrid};
+
+const RES: u32 = 40;
+
+fn settings(mode: VoxelizeMode) -> VolumeSettings {
+    VolumeSettings {
+        resolution: RES,
+        voxelize: mode,
+        ..Default::default()
+    }
+}
+
+/// Strands with long segments (several voxels) so the two modes differ, plus a one-vertex strand
+/// (no segment) and a zero-length segment.
+fn asset() -> HairAsset {
+    let base = common::sphere_hair(1.0, 300, 9);
+    let mut positions = base.positions().to_vec();
+    let mut counts: Vec<u32> = base.vertex_counts().collect();
+    positions.push(Vec3::new(0.0, 1.5, 0.0));
+    counts.push(1);
+    positions.extend([Vec3::new(0.2, 1.2, 0.1); 2]);
+    counts.push(2);
+    HairAsset::from_counts(positions, &counts).expect("valid asset")
+}
+
+fn cpu_grid(g: &tress_render::gpu::types::VolumeGrid) -> VoxelGrid {
+    VoxelGrid {
+        origin: Vec3::from_array(g.origin),
+        scale: g.scale,
+        voxel_size: g.voxel_size,
+        bounds_min: Vec3::from_array(g.bounds_min),
+        bounds_max: Vec3::from_array(g.bounds_max),
+        res: g.res,
+    }
+}
+
+fn run(
+    asset: &HairAsset,
+    s: &VolumeSettings,
+) -> (VolumeReadback, VoxelCounts, tress_render::VolumeStats) {
+    let ctx = common::gpu().expect("checked by the caller");
+    let geometry = StrandGeometry::new(&ctx, asset).expect("upload");
+    let mut voxelizer = Voxelizer::new(&ctx, s.resolution).expect("voxelizer");
+    let stats = voxelizer.voxelize(&ctx, &geometry, s).expect("voxelize");
+    let gpu = voxelizer.read_back(&ctx).expect("readback");
+    // The GPU's box is the exact box of the vertices; its grid is the CPU fit of that box up to
+    // the rounding of one division.
+    let b = asset.bounds();
+    assert_eq!(gpu.grid.bounds_min, b.min.to_array());
+    assert_eq!(gpu.grid.bounds_max, b.max.to_array());
+    assert_eq!((gpu.grid.res, gpu.grid.occupied), (s.resolution, 1));
+    let fit = VoxelGrid::fit(b.min, b.max, s.resolution);
+    let g = cpu_grid(&gpu.grid);
+    assert!(
+        (g.scale - fit.scale).abs() <= fit.scale * 1e-6,
+        "{} {}",
+        g.scale,
+        fit.scale
+    );
+    assert!(
+        (g.origin - fit.origin).abs().max_element() <= 1e-5 * fit.voxel_size * s.resolution as f32
+    );
+    // The CPU reference on the GPU's grid.
+    let segments = voxelize::strand_segments(asset.strand_offsets());
+    let cpu = voxelize::voxelize(
+        asset.positions(),
+        &segments,
+        &g,
+        s.voxelize,
+        s.max_strands_per_voxel,
+    );
+    (gpu, cpu, stats)
+}
+
+fn check_exact(mode: VoxelizeMode) {
+    let asset = asset();
+    let s = settings(mode);
+    let (gpu, cpu, stats) = run(&asset, &s);
+    assert_eq!(gpu.counts, cpu.counts, "{mode:?}: per-voxel counts");
+    assert_eq!(u64::from(stats.deposits), cpu.deposits);
+    assert_eq!((stats.dropped, cpu.dropped), (0, 0));
+    assert!(cpu.deposits > 1000, "{}", cpu.deposits);
+    // Tangent sums: equal up to the quantization of the rare tangent whose GPU normalize rounds
+    // differently (at most one level per sample).
+    let mut worst = 0.0f32;
+    for (i, (g, c)) in gpu.tangent_sums.iter().zip(&cpu.tangent_sums).enumerate() {
+        let n = cpu.counts[i].max(1) as f32;
+        for k in 0..3 {
+            let d = (g[k] as f32 - c[k] as f32).abs() / n;
+            worst = worst.max(d);
+        }
+    }
+    assert!(
+        worst <= 1.0,
+        "{mode:?}: tangent sums differ by {worst} levels per sample"
+    );
+    // The resolved texels: density exactly the count (segments) and the mean tangent within a
+    // quantization level (plus half-float rounding) of the CPU resolve.
+    let weight = match mode {
+        VoxelizeMode::Segments => 1.0,
+        VoxelizeMode::Vertices => {
+            let len: f32 = asset
+                .strands()
+                .flat_map(|s| s.windows(2).map(|w| w[0].distance(w[1])))
+                .sum();
+            len / asset.segment_count() as f32 * gpu.grid.scale
+        }
+    };
+    let radius = match mode {
+        VoxelizeMode::Segments => 0,
+        VoxelizeMode::Vertices => s.reconstruction_radius,
+    };
+    let mut non_empty = 0;
+    for z in 0..RES {
+        for y in 0..RES {
+            for x in 0..RES {
+                let v = UVec3::new(x, y, z);
+                let i = cpu.grid.index(v);
+                let want = voxelize::resolve(&cpu, v, radius, weight, s.max_strands_per_voxel);
+                let got = gpu.texels[i];
+                if mode == VoxelizeMode::Segments {
+                    assert_eq!(got[3], cpu.counts[i] as f32, "density at {v}");
+                } else {
+                    assert!(
+                        (got[3] - want.density).abs() <= want.density * 2e-3 + 1e-4,
+                        "{got:?} {want:?}"
+                    );
+                }
+                let t = Vec3::new(got[0], got[1], got[2]);
+                assert!(
+                    (t - want.tangent).abs().max_element() <= 2.5 / 255.0,
+                    "{v}: {t} {}",
+                    want.tangent
+                );
+                if got[3] > 0.0 {
+                    non_empty += 1;
+                    // Every non-empty voxel's occupancy block is marked.
+                    let b = v / 8;
+                    let ob = RES.div_ceil(8);
+                    assert_eq!(gpu.occupancy[(b.x + ob * (b.y + ob * b.z)) as usize], 1);
+                }
+            }
+        }
+    }
+    assert!(non_empty > 100, "{non_empty}");
+}
+
+#[test]
+fn segments_mode_matches_the_cpu_reference_exactly() {
+    if common::gpu().is_none() {
+        return;
+    }
+    check_exact(VoxelizeMode::Segments);
+}
+
+#[test]
+fn vertices_mode_matches_the_cpu_reference_exactly() {
+    if common::gpu().is_none() {
+        return;
+    }
+    check_exact(VoxelizeMode::Vertices);
+}
+
+#[test]
+fn segments_fill_the_gaps_vertices_leave() {
+    if common::gpu().is_none() {
+        return;
+    }
+    // Long segments (about 14 voxels): every voxel a strand passes through is hit in the
+    // segments mode; the vertices mode hits one in 14 before its filter.
+    let mut positions = Vec::new();
+    for i in 0..200 {
+        let (x, z) = ((i % 20) as f32 * 0.1, (i / 20) as f32 * 0.1);
+        positions.extend([
+            Vec3::new(x, 0.0, z),
+            Vec3::new(x, -1.0, z),
+            Vec3::new(x, -2.0, z + 0.5),
+        ]);
+    }
+    let asset = HairAsset::from_counts(positions, &[3; 200]).expect("asset");
+    let (seg, _, _) = run(&asset, &settings(VoxelizeMode::Segments));
+    let (ver, _, _) = run(&asset, &settings(VoxelizeMode::Vertices));
+    let hit = |r: &VolumeReadback| r.counts.iter().filter(|c| **c > 0).count();
+    assert!(hit(&seg) > 3 * hit(&ver), "{} vs {}", hit(&seg), hit(&ver));
+}
+
+#[test]
+fn full_counters_drop_and_count_what_overflows() {
+    if common::gpu().is_none() {
+        return;
+    }
+    // 2000 short strands through almost the same point, capacity 7.
+    let mut positions = Vec::new();
+    for i in 0..2000 {
+        let o = (i % 7) as f32 * 1e-3;
+        positions.extend([
+            Vec3::new(o, 0.0, 0.0),
+            Vec3::new(o, 0.001, 0.0),
+            Vec3::new(1.0, 1.0, 1.0),
+        ]);
+    }
+    let asset = HairAsset::from_counts(positions, &[3; 2000]).expect("asset");
+    let s = VolumeSettings {
+        resolution: 16,
+        max_strands_per_voxel: 7,
+        voxelize: VoxelizeMode::Vertices,
+        ..Default::default()
+    };
+    let (gpu, cpu, stats) = run(&asset, &s);
+    assert_eq!(gpu.counts, cpu.counts);
+    assert!(cpu.dropped > 1000, "{}", cpu.dropped);
+    assert_eq!(u64::from(stats.dropped), cpu.dropped);
+    assert_eq!(u64::from(stats.deposits), cpu.deposits);
+    let expected: u64 = cpu
+        .counts
+        .iter()
+        .map(|&c| u64::from(c.saturating_sub(7)))
+        .sum();
+    assert_eq!(cpu.dropped, expected);
+    // The texture holds the clamped count and a mean tangent of unit range.
+    let i = cpu
+        .grid
+        .index(cpu.grid.fixed_point(Vec3::ZERO) >> SUBVOXEL_BITS);
+    let t = gpu.texels[i];
+    assert!(t[..3].iter().all(|c| c.abs() <= 1.0) && t[3] > 0.0, "{t:?}");
+}
+
+#[test]
+fn a_volume_over_the_binding_limit_is_a_typed_error() {
+    let Some(ctx) = common::gpu() else {
+        return;
+    };
+    let limit = ctx.caps.max_storage_binding.min(ctx.caps.max_buffer_size);
+    let res = (1..=1024u32).find(|r| u64::from(*r).pow(3) * 4 > limit);
+    if let Some(res) = res {
+        let err = Voxelizer::new(&ctx, res).expect_err("over the limit");
+        assert!(matches!(err, RenderError::Limit { .. }), "{err}");
+    }
+    assert!(Voxelizer::new(&ctx, 4).is_err());
+}
+
+#[test]
+fn empty_hair_gives_an_unoccupied_grid() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let ctx = common::gpu().expect("gpu");
+    let asset = HairAsset::from_counts(vec![Vec3::ZERO], &[1]).expect("asset");
+    let geometry = StrandGeometry::new(&ctx, &asset).expect("upload");
+    let mut v = Voxelizer::new(&ctx, 16).expect("voxelizer");
+    let stats = v
+        .voxelize(
+            &ctx,
+            &geometry,
+            &VolumeSettings {
+                resolution: 16,
+                ..Default::default()
+            },
+        )
+        .expect("voxelize");
+    assert_eq!(stats.deposits, 0);
+    let r = v.read_back(&ctx).expect("readback");
+    assert!(r.counts.iter().all(|c| *c == 0));
+    assert!(r.texels.iter().all(|t| t[3] == 0.0));
+}

@@ -1,0 +1,335 @@
+//! Volume shading: the formulas of the raymarcher, the volume shadows and the local ambient
+//! occlusion, and the level-of-detail blend (Jansson et al. 2019 §3.3, §3.4, §3). WGSL twins in
+//! `crates/tress-render/src/shaders/common/volume.wgsl`, same names and arguments.
+//!
+//! Positions are *voxel coordinates* of a [`crate::VoxelGrid`] (`(p - origin) · scale`, voxel `i`
+//! spans `[i, i + 1)`), so marching distances are in voxel edges and "density × step" is a number
+//! of strands. The density volume is read through [`DensityVolume`], the CPU stand-in for the
+//! trilinearly filtered 3D texture (texel centres at `i + 1/2`, clamp to edge).
+//!
+//! - **Surface (§3.3).** The raymarcher accumulates `density · step` along the eye ray; a
+//!   "solid" isosurface is where the sum first reaches `iso` strands. A ray that never gets there
+//!   but met hair is shaded at its first non-empty sample with the opacity
+//!   [`fake_transparency_alpha`] `= saturate(strands / iso)`: the paper's "fake transparency",
+//!   continuous with the solid case (alpha 1 at `iso`). The shading normal is [`density_normal`],
+//!   `-∇density` normalized.
+//! - **Volume shadows (§3.4).** [`volume_shadow_strands`] marches from the point towards the
+//!   light and counts strands; that count replaces ADSM's `d · r` in
+//!   [`crate::strand_visibility`]`(n, alpha) = (1 - alpha)^n`.
+//! - **Local ambient occlusion (§3.4).** [`volume_ao`] averages the density at `samples` points
+//!   spread evenly through a ball of radius `radius` around the point ([`ao_offset`]: a Fibonacci
+//!   spiral of directions at radii `cbrt(u)`, `u` a golden-ratio sequence, uniform in volume). The mean
+//!   density times the radius is the number of strands an average ray of that length meets;
+//!   scaled by `intensity` (the paper's tweak to match a ray tracer) it goes through the same
+//!   visibility `(1 - alpha)^n` as the shadows.
+//! - **Level of detail (§3, §4).** [`lod_factor`] is `smoothstep(near, far, distance)`; the
+//!   dithered transition compares it with [`dither_threshold`], a 4 × 4 Bayer matrix.
+
+use glam::{UVec2, Vec3};
+
+use crate::{saturate, smoothstep, strand_visibility};
+
+/// Most marching steps a shadow ray takes (a safety bound; a `1024³` grid needs at most
+/// `1024 · √3 / step`).
+pub const MAX_MARCH_STEPS: u32 = 4096;
+/// Most ambient-occlusion samples honoured.
+pub const MAX_AO_SAMPLES: u32 = 64;
+/// `(√5 - 1) / 2`.
+pub const GOLDEN_RATIO_CONJUGATE: f32 = 0.618_034;
+/// The golden angle in radians, `π (3 - √5)`.
+pub const GOLDEN_ANGLE: f32 = 2.399_963_3;
+
+/// A density array that does not hold `res³ > 0` values.
+#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+#[error("a {res}³ density volume needs {expected} values (at least one), got {got}")]
+pub struct VolumeSizeError {
+    /// Voxels per axis.
+    pub res: u32,
+    /// `res³`.
+    pub expected: u64,
+    /// Length of the array given.
+    pub got: usize,
+}
+
+/// A read-only `res³` density volume: the CPU stand-in for the density channel of the 3D texture
+/// sampled with a linear, clamp-to-edge sampler. `density[x + res · (y + res · z)]`.
+#[derive(Clone, Copy, Debug)]
+pub struct DensityVolume<'a> {
+    res: u32,
+    density: &'a [f32],
+}
+
+impl<'a> DensityVolume<'a> {
+    /// A view of `density`, checked to hold `res³ > 0` values.
+    pub fn new(res: u32, density: &'a [f32]) -> Result<Self, VolumeSizeError> {
+        let expected = u64::from(res).pow(3);
+        if expected == 0 || density.len() as u64 != expected {
+            return Err(VolumeSizeError {
+                res,
+                expected,
+                got: density.len(),
+            });
+        }
+        Ok(DensityVolume { res, density })
+    }
+
+    /// Voxels per axis.
+    pub fn res(&self) -> u32 {
+        self.res
+    }
+
+    /// The voxel at integer coordinates, clamped to the grid.
+    pub fn load(&self, x: i32, y: i32, z: i32) -> f32 {
+        let c = |v: i32| v.clamp(0, self.res as i32 - 1) as usize;
+        let r = self.res as usize;
+        self.density[c(x) + r * (c(y) + r * c(z))]
+    }
+
+    /// Trilinear sample at continuous voxel coordinates `x` (texel centres at `i + 1/2`).
+    pub fn sample(&self, x: Vec3) -> f32 {
+        let p = x - Vec3::splat(0.5);
+        let i = p.floor();
+        let f = p - i;
+        let (x0, y0, z0) = (i.x as i32, i.y as i32, i.z as i32);
+        let mut acc = 0.0;
+        for dz in 0..2 {
+            for dy in 0..2 {
+                for dx in 0..2 {
+                    let w = (if dx == 1 { f.x } else { 1.0 - f.x })
+                        * (if dy == 1 { f.y } else { 1.0 - f.y })
+                        * (if dz == 1 { f.z } else { 1.0 - f.z });
+                    acc += w * self.load(x0 + dx, y0 + dy, z0 + dz);
+                }
+            }
+        }
+        acc
+    }
+}
+
+/// Entry and exit distances `(t0, t1)` of the ray `o + t · d` through the box `[lo, hi]` (slab
+/// method; `t0 > t1` is a miss). Zero components of `d` are handled by IEEE infinities.
+pub fn ray_box(o: Vec3, d: Vec3, lo: Vec3, hi: Vec3) -> (f32, f32) {
+    let inv = Vec3::ONE / d;
+    let a = (lo - o) * inv;
+    let b = (hi - o) * inv;
+    let near = a.min(b);
+    let far = a.max(b);
+    (near.max_element(), far.min_element())
+}
+
+/// Strands between voxel position `x` and the grid's edge towards unit direction `l` (§3.4):
+/// `Σ density(x + l t) · step` for `t = max(offset, t_enter), + step, ...` while inside the grid.
+/// `offset` (voxels) skips the point's own strands.
+pub fn volume_shadow_strands(
+    vol: &DensityVolume<'_>,
+    x: Vec3,
+    l: Vec3,
+    step: f32,
+    offset: f32,
+) -> f32 {
+    let res = vol.res() as f32;
+    let (t0, t1) = ray_box(x, l, Vec3::ZERO, Vec3::splat(res));
+    let mut t = offset.max(t0);
+    let mut n = 0.0;
+    let mut i = 0;
+    while i < MAX_MARCH_STEPS && t < t1 {
+        n += vol.sample(x + l * t) * step;
+        t += step;
+        i += 1;
+    }
+    n
+}
+
+/// Offset of ambient-occlusion sample `i` of `n` inside the unit ball: Fibonacci-spiral
+/// direction, radius `cbrt(u)` with `u = fract((i + 1/2) · (√5 - 1) / 2)` (a golden-ratio
+/// sequence, so the radii are spread evenly and independent of the direction).
+pub fn ao_offset(i: u32, n: u32) -> Vec3 {
+    let fi = i as f32 + 0.5;
+    let nf = n.max(1) as f32;
+    let z = 1.0 - 2.0 * fi / nf;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = GOLDEN_ANGLE * i as f32;
+    let u = fi * GOLDEN_RATIO_CONJUGATE;
+    let radius = (u - u.floor()).powf(1.0 / 3.0);
+    Vec3::new(r * phi.cos(), r * phi.sin(), z) * radius
+}
+
+/// Local ambient occlusion at voxel position `x` (§3.4): with the mean density `m` of
+/// `min(samples, MAX_AO_SAMPLES)` points in the ball of `radius` voxels,
+/// `strand_visibility(intensity · m · radius, alpha)`. 1 without samples or radius.
+pub fn volume_ao(
+    vol: &DensityVolume<'_>,
+    x: Vec3,
+    radius: f32,
+    samples: u32,
+    intensity: f32,
+    alpha: f32,
+) -> f32 {
+    let n = samples.min(MAX_AO_SAMPLES);
+    if n == 0 || radius <= 0.0 {
+        return 1.0;
+    }
+    let mut sum = 0.0;
+    for i in 0..n {
+        sum += vol.sample(x + ao_offset(i, n) * radius);
+    }
+    let mean = sum / n as f32;
+    strand_visibility(intensity * mean * radius, alpha)
+}
+
+/// Central-difference gradient of the density at `x` (one voxel either side).
+pub fn density_gradient(vol: &DensityVolume<'_>, x: Vec3) -> Vec3 {
+    let d = |o: Vec3| vol.sample(x + o) - vol.sample(x - o);
+    Vec3::new(d(Vec3::X), d(Vec3::Y), d(Vec3::Z)) * 0.5
+}
+
+/// The isosurface normal `-∇d / |∇d|` (§3.3); `fallback` where the gradient vanishes.
+pub fn density_normal(gradient: Vec3, fallback: Vec3) -> Vec3 {
+    let len = gradient.length();
+    if len > 1e-12 {
+        -gradient / len
+    } else {
+        fallback
+    }
+}
+
+/// Opacity of a "non-solid" hit (§3.3, fake transparency): `saturate(strands / iso)`; 1 when
+/// `iso <= 0`.
+pub fn fake_transparency_alpha(strands: f32, iso: f32) -> f32 {
+    if iso <= 0.0 {
+        return 1.0;
+    }
+    saturate(strands / iso)
+}
+
+/// Level-of-detail blend factor (0: strands, 1: volume) from the camera distance:
+/// `smoothstep(near, far, distance)`; a step at `near` when `far <= near`.
+pub fn lod_factor(distance: f32, near: f32, far: f32) -> f32 {
+    if far <= near {
+        return if distance >= near { 1.0 } else { 0.0 };
+    }
+    smoothstep(near, far, distance)
+}
+
+/// Threshold of the dithered transition at pixel `px`: `(b + 1/2) / 16` with `b` the 4 × 4 Bayer
+/// matrix entry. A pixel shows the volume when the blend factor exceeds it, so factor 0 shows
+/// only strands, 1 only volume, and `k/16` about `k` pixels of every 16.
+pub fn dither_threshold(px: UVec2) -> f32 {
+    const BAYER: [u32; 16] = [0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5];
+    let b = BAYER[((px.y & 3) * 4 + (px.x & 3)) as usize];
+    (b as f32 + 0.5) / 16.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn slab(res: u32, lo: u32, hi: u32, value: f32) -> Vec<f32> {
+        // Density `value` in voxels with lo <= x < hi, empty elsewhere.
+        let r = res as usize;
+        let mut d = vec![0.0; r * r * r];
+        for z in 0..r {
+            for y in 0..r {
+                for x in lo as usize..hi as usize {
+                    d[x + r * (y + r * z)] = value;
+                }
+            }
+        }
+        d
+    }
+
+    #[test]
+    fn trilinear_sampling_interpolates_between_centres() {
+        let d = slab(8, 4, 8, 2.0);
+        let v = DensityVolume::new(8, &d).unwrap();
+        assert_eq!(v.sample(Vec3::new(4.5, 3.3, 2.0)), 2.0);
+        assert_eq!(v.sample(Vec3::new(3.5, 3.3, 2.0)), 0.0);
+        assert!((v.sample(Vec3::new(4.0, 3.3, 2.0)) - 1.0).abs() < 1e-6);
+        // Clamp to edge outside the grid.
+        assert_eq!(v.sample(Vec3::new(100.0, 3.0, 3.0)), 2.0);
+        assert!(DensityVolume::new(8, &d[1..]).is_err());
+        assert!(DensityVolume::new(0, &[]).is_err());
+    }
+
+    #[test]
+    fn shadow_march_counts_the_strands_in_the_way() {
+        // A slab 3 voxels thick with 2 strands per voxel: 6 strands between the two sides.
+        let d = slab(16, 8, 11, 2.0);
+        let v = DensityVolume::new(16, &d).unwrap();
+        let n = volume_shadow_strands(&v, Vec3::new(2.0, 8.0, 8.0), Vec3::X, 0.25, 0.5);
+        assert!((n - 6.0).abs() < 0.3, "{n}");
+        // Looking away from the slab: nothing.
+        let n = volume_shadow_strands(&v, Vec3::new(2.0, 8.0, 8.0), Vec3::NEG_X, 0.25, 0.5);
+        assert_eq!(n, 0.0);
+        // A point outside the grid starts where the ray enters it.
+        let n = volume_shadow_strands(&v, Vec3::new(-20.0, 8.0, 8.0), Vec3::X, 0.25, 0.5);
+        assert!((n - 6.0).abs() < 0.3, "{n}");
+        assert!((strand_visibility(n, 0.25) - 0.75f32.powf(6.0)).abs() < 0.05);
+    }
+
+    #[test]
+    fn ao_offsets_fill_the_unit_ball_evenly() {
+        let n = 64;
+        let pts: Vec<Vec3> = (0..n).map(|i| ao_offset(i, n)).collect();
+        assert!(pts.iter().all(|p| p.length() <= 1.0 + 1e-5));
+        let mean = pts.iter().copied().sum::<Vec3>() / n as f32;
+        assert!(mean.length() < 0.1, "{mean}");
+        // Uniform in volume: about 1/8 of the points lie within radius 1/2.
+        let inner = pts.iter().filter(|p| p.length() < 0.5).count();
+        assert!((6..=10).contains(&inner), "{inner}");
+    }
+
+    #[test]
+    fn ao_darkens_with_density_and_intensity() {
+        let empty = vec![0.0; 512];
+        let full = vec![3.0; 512];
+        let (e, f) = (
+            DensityVolume::new(8, &empty).unwrap(),
+            DensityVolume::new(8, &full).unwrap(),
+        );
+        let x = Vec3::splat(4.0);
+        assert_eq!(volume_ao(&e, x, 2.0, 16, 1.0, 0.3), 1.0);
+        let a = volume_ao(&f, x, 2.0, 16, 1.0, 0.3);
+        assert!((a - 0.7f32.powf(6.0)).abs() < 1e-4, "{a}");
+        assert!(volume_ao(&f, x, 2.0, 16, 2.0, 0.3) < a);
+        assert_eq!(volume_ao(&f, x, 2.0, 0, 1.0, 0.3), 1.0);
+        assert_eq!(volume_ao(&f, x, 0.0, 16, 1.0, 0.3), 1.0);
+    }
+
+    #[test]
+    fn normal_points_out_of_the_hair() {
+        let d = slab(16, 8, 16, 4.0);
+        let v = DensityVolume::new(16, &d).unwrap();
+        let g = density_gradient(&v, Vec3::new(8.0, 8.0, 8.0));
+        assert_eq!(density_normal(g, Vec3::Z), Vec3::NEG_X);
+        assert_eq!(density_normal(Vec3::ZERO, Vec3::Z), Vec3::Z);
+    }
+
+    #[test]
+    fn transparency_lod_and_dither() {
+        assert_eq!(fake_transparency_alpha(1.0, 4.0), 0.25);
+        assert_eq!(fake_transparency_alpha(9.0, 4.0), 1.0);
+        assert_eq!(fake_transparency_alpha(0.0, 0.0), 1.0);
+        assert_eq!(lod_factor(1.0, 2.0, 4.0), 0.0);
+        assert_eq!(lod_factor(3.0, 2.0, 4.0), 0.5);
+        assert_eq!(lod_factor(5.0, 2.0, 4.0), 1.0);
+        assert_eq!(lod_factor(2.0, 2.0, 2.0), 1.0);
+        let mut seen = [false; 16];
+        for y in 0..4 {
+            for x in 0..4 {
+                let t = dither_threshold(UVec2::new(x, y));
+                seen[(t * 16.0) as usize] = true;
+                assert_eq!(t, dither_threshold(UVec2::new(x + 4, y + 8)));
+            }
+        }
+        assert!(seen.iter().all(|s| *s), "every level once per 4x4 tile");
+        let (a, b, c) = (
+            ray_box(Vec3::new(-1.0, 0.5, 0.5), Vec3::X, Vec3::ZERO, Vec3::ONE),
+            ray_box(Vec3::new(0.5, 0.5, 0.5), Vec3::Y, Vec3::ZERO, Vec3::ONE),
+            ray_box(Vec3::new(-1.0, 2.0, 0.5), Vec3::X, Vec3::ZERO, Vec3::ONE),
+        );
+        assert_eq!(a, (1.0, 2.0));
+        assert_eq!(b, (-0.5, 0.5));
+        assert!(c.0 > c.1);
+    }
+}
