@@ -117,3 +117,153 @@ fn bad_settings_are_one_line_errors() {
     assert!(err.contains("pixels"), "{err}");
     assert!(!db.exists());
 }
+
+fn skip_gpu() -> bool {
+    std::env::var("TRESS_SKIP_GPU_TESTS").is_ok_and(|v| v == "1")
+}
+
+/// A tiny SATF scene in its own folder: generated clusters, a database `db.satfdb` beside it
+/// baked with `samples` samples.
+fn satf_scene(name: &str, samples: u32) -> PathBuf {
+    let dir = tmp(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("scene.toml");
+    std::fs::write(
+        &scene,
+        format!(
+            "technique = \"satf\"\n\
+             [camera]\neye = [38.0, 8.0, 52.0]\ntarget = [0.0, -6.0, 0.0]\n\
+             [output]\nwidth = 96\nheight = 64\n\
+             [satf]\ndatabase = \"db.satfdb\"\nclusters = \"generate\"\n\
+             st = 6\nsu = 6\nshadow_map_size = 128\n\
+             generate = {{ macro_clusters = 2, clusters_per_macro = 2, strands_per_cluster = 40, samples = 8 }}\n\
+             bake = {{ samples = {samples}, angles = 4, pixels = 8 }}\n"
+        ),
+    )
+    .unwrap();
+    scene
+}
+
+#[test]
+fn render_satf_bakes_on_first_use_and_reports_table_1_stages() {
+    if skip_gpu() {
+        return;
+    }
+    let scene = satf_scene("first-use", 32);
+    let png = scene.with_file_name("out.png");
+    let args = [
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--json",
+    ];
+    let out = tress(&args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success(),
+        "tress render failed (GPU tests need a Vulkan adapter: install mesa-vulkan-drivers for \
+         lavapipe, or set TRESS_SKIP_GPU_TESTS=1 to skip on purpose): {stderr}"
+    );
+    assert!(stderr.contains("not found: baking it"), "{stderr}");
+    assert!(scene.with_file_name("db.satfdb").exists());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    assert_eq!(v["technique"], "satf");
+    assert_eq!(
+        (v["width"].clone(), v["height"].clone()),
+        (96.into(), 64.into())
+    );
+    let s = &v["satf"];
+    assert_eq!(s["clusters"], 4);
+    assert_eq!(s["database_samples"], 32);
+    assert_eq!(s["cluster_source"], "generate");
+    // H# = clusters · s_t · layers · s_u = 4 · 6 · 3 · 6.
+    assert_eq!(s["hsvs"], 4 * 6 * 3 * 6);
+    assert_eq!(
+        s["uniform_hsvs"].as_u64().unwrap() + s["interpolated_hsvs"].as_u64().unwrap(),
+        4 * 6 * 3 * 6
+    );
+    for stage in [
+        "index_calculation",
+        "map_construction",
+        "texture_mapping",
+        "lighting",
+        "shadowing",
+    ] {
+        let ms = &s["stages_ms"][stage];
+        assert!(
+            ms.is_null() || ms.as_f64().is_some_and(|x| x >= 0.0),
+            "{stage}: {ms}"
+        );
+    }
+    let img = image::open(&png).expect("png written").to_rgb8();
+    assert_eq!(img.dimensions(), (96, 64));
+    // Second run: the database exists, nothing is baked.
+    let out = tress(&args);
+    assert!(out.status.success());
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("baking"));
+}
+
+#[test]
+fn render_satf_database_errors_are_one_line() {
+    if skip_gpu() {
+        return;
+    }
+    let scene = satf_scene("db-errors", 24);
+    let db = scene.with_file_name("db.satfdb");
+    let png = scene.with_file_name("out.png");
+    let render = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            png.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        tress(&args)
+    };
+    // A database baked with other settings than the scene's [satf.bake].
+    let out = tress(&[
+        "satf-bake",
+        "-o",
+        db.to_str().unwrap(),
+        "--samples",
+        "16",
+        "--angles",
+        "4",
+        "--pixels",
+        "8",
+    ]);
+    assert!(out.status.success());
+    let err = one_error_line(&render(&[]));
+    assert!(
+        err.contains("db.satfdb") && err.contains("samples = 16") && err.contains("re-bake"),
+        "{err}"
+    );
+    // Without [satf.bake] any valid database is accepted.
+    let out = render(&["--set", "satf.bake={}"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // Corrupt.
+    let mut bytes = std::fs::read(&db).unwrap();
+    let last = bytes.len() - 20;
+    bytes[last] ^= 1;
+    std::fs::write(&db, &bytes).unwrap();
+    let err = one_error_line(&render(&[]));
+    assert!(
+        err.contains("db.satfdb") && err.contains("corrupt"),
+        "{err}"
+    );
+    // A folder where the file should be.
+    let err = one_error_line(&render(&[
+        "--set",
+        &format!("satf.database=\"{}\"", scene.parent().unwrap().display()),
+    ]));
+    assert!(err.contains("db-errors"), "{err}");
+    // A bad setting names itself.
+    let err = one_error_line(&render(&["--set", "satf.k_threshold=-1"]));
+    assert!(err.contains("k_threshold"), "{err}");
+}

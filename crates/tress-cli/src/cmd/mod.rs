@@ -8,4 +8,5 @@ pub(crate) mod generate;
 pub(crate) mod info;
 pub(crate) mod reference;
 pub(crate) mod render;
+pub(crate) mod render_satf;
 pub(crate) mod satf_bake;

@@ -22,7 +22,7 @@ use crate::progress;
 pub(crate) const DEMO_SCENE: &str = include_str!("../../../../scenes/demo.toml");
 
 /// Techniques `render` can run today.
-const IMPLEMENTED: &[&str] = &["strands", "patches"];
+const IMPLEMENTED: &[&str] = &["strands", "patches", "satf"];
 
 /// Arguments of `tress render`.
 #[derive(clap::Args, Debug)]
@@ -201,6 +201,9 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let size = [scene.output.width, scene.output.height];
 
     let ctx = GpuContext::headless()?;
+    if scene.technique == "satf" {
+        return super::render_satf::run(&ctx, &scene, &prepared, size, &args.output, args.json);
+    }
     if let Some(p) = &patches {
         return run_patches(&ctx, &args, &scene, &prepared, p, size, ext);
     }

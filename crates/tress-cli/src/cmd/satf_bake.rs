@@ -5,7 +5,9 @@
 //!
 //! The file is written to `DB.partial` and renamed when complete, so an interrupted bake never
 //! leaves a truncated database behind. `tress render --technique satf` uses the same functions
-//! to bake its database on first use ([`database_for_render`]).
+//! to bake its database on first use ([`database_for_render`]): into the file `satf.database`
+//! names, or, when the scene names none, into the cache folder ([`cache_dir`]) under a name that
+//! hashes every bake setting.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -197,4 +199,57 @@ pub(crate) fn bake_to(path: &Path, settings: &BakeSettings) -> Result<BakeReport
         .with_context(|| path.display().to_string())?
         .len();
     Ok(BakeReport::new(path, &db, bytes, Some(seconds)))
+}
+
+/// Where `tress render --technique satf` caches databases baked on first use:
+/// `$TRESS_CACHE_DIR`, else `$XDG_CACHE_HOME/tress`, else `$HOME/.cache/tress`, else the system
+/// temporary folder's `tress-cache`.
+pub(crate) fn cache_dir() -> PathBuf {
+    let env = |k: &str| {
+        std::env::var_os(k)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
+    env("TRESS_CACHE_DIR")
+        .or_else(|| env("XDG_CACHE_HOME").map(|d| d.join("tress")))
+        .or_else(|| env("HOME").map(|d| d.join(".cache").join("tress")))
+        .unwrap_or_else(|| std::env::temp_dir().join("tress-cache"))
+}
+
+/// The cache file of a database baked with `settings`: named by a hash of the file format's
+/// version and every setting, so databases of different settings or formats never collide.
+pub(crate) fn cache_path(settings: &BakeSettings) -> PathBuf {
+    let mut text = format!("version={};", tress_satf::format::FORMAT_VERSION);
+    for (k, v) in settings.fields() {
+        text.push_str(&format!("{k}={v};"));
+    }
+    let hash = tress_satf::format::fnv1a64(text.as_bytes());
+    cache_dir().join(format!("satf-{hash:016x}.satfdb"))
+}
+
+/// The database of a render: the file at `path` (or the cache file of `settings` when `None`),
+/// baked there first with `settings` when it does not exist, saying so on stderr. With
+/// `require_match` an existing file must have been baked with `settings`; a corrupt or
+/// mismatched file is an error naming it. Returns the database and its path.
+pub(crate) fn database_for_render(
+    path: Option<&Path>,
+    settings: &BakeSettings,
+    require_match: bool,
+) -> Result<(Database, PathBuf)> {
+    let path = path.map_or_else(|| cache_path(settings), Path::to_path_buf);
+    if !path.exists() {
+        eprintln!(
+            "tress: SATF database {} not found: baking it ({} samples, takes a while once)",
+            path.display(),
+            settings.samples
+        );
+        let report = bake_to(&path, settings)?;
+        eprintln!("tress: {}", report.line());
+    }
+    let db = if require_match {
+        Database::load_expecting(&path, settings)?
+    } else {
+        Database::load(&path)?
+    };
+    Ok((db, path))
 }

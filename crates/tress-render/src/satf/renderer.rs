@@ -134,6 +134,10 @@ impl SatfTimer {
     ) -> Option<(&wgpu::QuerySet, Option<u32>, Option<u32>)> {
         let i = PASS_NAMES.iter().position(|n| *n == name)?;
         let (set, _) = self.queries.as_ref()?;
+        if !begin && !end {
+            // A middle pass of a stage split over several passes writes nothing.
+            return None;
+        }
         if end {
             self.written[i].set(true);
         }

@@ -1,0 +1,245 @@
+//! `tress render --technique satf`: the SATF technique (Xu et al. 2006) through the CLI.
+//!
+//! The database is `satf.database` (baked there on first use), or a file in the cache folder
+//! named by the bake settings ([`super::satf_bake::database_for_render`]); the clusters are
+//! fitted to the scene's hair or generated on its head (`satf.clusters`, see
+//! `tress_render::satf::scene`). The frame is rendered twice and the second is reported, so the
+//! timings exclude first-use costs; `--json` adds a `satf` object with the hierarchy's counts
+//! (Table 1's C#, L#, S#, H#), the CPU preparation times and the GPU milliseconds of Table 1's
+//! stages (`stages_ms`: index calculation, map construction, texture mapping, lighting,
+//! shadowing) beside the keys every technique reports.
+
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use glam::Vec3;
+use serde::Serialize;
+use tress_render::satf::scene::{load_clusters, satf_settings};
+use tress_render::{
+    COLOR_FORMAT, GpuContext, HeadGeometry, OffscreenTargets, PreparedScene, SatfDatabase,
+    SatfFrameInputs, SatfGeometry, SatfRenderer, TargetFormats, Timings, read_texture, wgpu,
+};
+use tress_scene::Scene;
+
+use super::render::AMBIENT;
+use super::satf_bake::database_for_render;
+use crate::progress;
+
+/// The report: the keys of every technique's report, and `satf`.
+#[derive(Serialize)]
+struct Report {
+    technique: String,
+    width: u32,
+    height: u32,
+    strands: usize,
+    segments: usize,
+    adapter: Adapter,
+    passes: Vec<Pass>,
+    frame_gpu_ms: Option<f64>,
+    ppll: Ppll,
+    output: String,
+    satf: SatfReport,
+}
+
+#[derive(Serialize)]
+struct Adapter {
+    name: String,
+    backend: String,
+}
+
+#[derive(Serialize)]
+struct Pass {
+    name: String,
+    gpu_ms: f64,
+}
+
+/// Always zero: SATF has no per-pixel lists (kept so every report has the same keys).
+#[derive(Serialize)]
+struct Ppll {
+    capacity: u32,
+    used: u32,
+    dropped: u32,
+    bytes: u64,
+}
+
+#[derive(Serialize)]
+struct SatfReport {
+    database: String,
+    database_samples: u32,
+    cluster_source: &'static str,
+    clusters: u32,
+    macro_clusters: usize,
+    layers: u32,
+    cluster_strands: usize,
+    hsvs: u32,
+    uniform_hsvs: u32,
+    interpolated_hsvs: u32,
+    atlas: [u32; 2],
+    clusters_cpu_ms: f64,
+    features_cpu_ms: f64,
+    /// GPU milliseconds of Table 1's stages (null without timestamps).
+    stages_ms: Stages,
+}
+
+#[derive(Serialize)]
+struct Stages {
+    index_calculation: Option<f64>,
+    map_construction: Option<f64>,
+    texture_mapping: Option<f64>,
+    lighting: Option<f64>,
+    shadowing: Option<f64>,
+}
+
+/// Render `scene` with the SATF technique into `output` (`.png` or `.exr`, checked by the
+/// caller) and report on stdout.
+pub(crate) fn run(
+    ctx: &GpuContext,
+    scene: &Scene,
+    prepared: &PreparedScene,
+    size: [u32; 2],
+    output: &Path,
+    json: bool,
+) -> Result<()> {
+    let satf = satf_settings(scene)?;
+    let (cpu_db, db_path) =
+        database_for_render(satf.database.as_deref(), &satf.bake, satf.bake_explicit)?;
+    let pb = progress::spinner("building SATF clusters");
+    let start = Instant::now();
+    let volume = load_clusters(scene, &satf, prepared.hair.as_ref());
+    pb.finish_and_clear();
+    let volume = volume?;
+    let clusters_cpu_ms = start.elapsed().as_secs_f64() * 1e3;
+
+    let pb = progress::spinner(format!(
+        "rendering {}x{} on {}",
+        size[0], size[1], ctx.adapter_info.name
+    ));
+    let result = (|| -> Result<_> {
+        let db = SatfDatabase::new(ctx, &cpu_db)?;
+        let geometry = SatfGeometry::new(ctx, &volume, &db, &satf.settings)?;
+        let mut renderer = SatfRenderer::new(ctx, TargetFormats::default(), satf.settings)?;
+        let head = prepared
+            .head
+            .as_ref()
+            .map(|m| HeadGeometry::new(ctx, m))
+            .transpose()?;
+        let targets = OffscreenTargets::new(ctx, size, COLOR_FORMAT)?;
+        let bg = prepared.background;
+        let inputs = SatfFrameInputs {
+            camera: PreparedScene::camera(scene, size),
+            lights: &prepared.lights,
+            ambient: Vec3::splat(AMBIENT),
+            head_color: prepared.material.head_color,
+            clusters: Some(&geometry),
+            database: &db,
+            head: head.as_ref(),
+            clear: Some(wgpu::Color {
+                r: bg.x.into(),
+                g: bg.y.into(),
+                b: bg.z.into(),
+                a: 1.0,
+            }),
+        };
+        // The first frame warms up; the second is the one reported.
+        renderer.render(ctx, &targets.targets(), &inputs)?;
+        let stats = renderer.render(ctx, &targets.targets(), &inputs)?;
+        let image = read_texture(ctx, &targets.color).context("reading the frame back")?;
+        Ok((image, stats, geometry.features_ms(), geometry.atlas_size()))
+    })();
+    pb.finish_and_clear();
+    let (image, stats, features_cpu_ms, atlas) = result?;
+    let is_exr = output
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    if is_exr {
+        image.save_exr(output)?;
+    } else {
+        image.save_png(output)?;
+    }
+
+    let passes: Vec<Pass> = match &stats.timings {
+        Timings::Passes(p) => p
+            .iter()
+            .map(|t| Pass {
+                name: t.name.to_string(),
+                gpu_ms: t.ms,
+            })
+            .collect(),
+        Timings::NotSupported => Vec::new(),
+    };
+    let [i, c, m, l, s] = stats.table1_ms().map(|(_, ms)| ms);
+    let counts = volume.stats(&satf.settings.sampling);
+    let report = Report {
+        technique: scene.technique.clone(),
+        width: size[0],
+        height: size[1],
+        strands: prepared.hair.as_ref().map_or(0, |h| h.strand_count()),
+        segments: prepared.hair.as_ref().map_or(0, |h| h.segment_count()),
+        adapter: Adapter {
+            name: ctx.adapter_info.name.clone(),
+            backend: format!("{:?}", ctx.adapter_info.backend).to_lowercase(),
+        },
+        frame_gpu_ms: stats.timings.total_ms(),
+        passes,
+        ppll: Ppll {
+            capacity: 0,
+            used: 0,
+            dropped: 0,
+            bytes: 0,
+        },
+        output: output.display().to_string(),
+        satf: SatfReport {
+            database: db_path.display().to_string(),
+            database_samples: cpu_db.sample_count() as u32,
+            cluster_source: match satf.clusters {
+                tress_render::satf::scene::ClusterSource::Fit(_) => "fit",
+                tress_render::satf::scene::ClusterSource::Generate(_) => "generate",
+            },
+            clusters: stats.clusters,
+            macro_clusters: counts.macro_clusters,
+            layers: stats.layers,
+            cluster_strands: counts.strands,
+            hsvs: stats.hsvs,
+            uniform_hsvs: stats.uniform_hsvs,
+            interpolated_hsvs: stats.interpolated_hsvs,
+            atlas,
+            clusters_cpu_ms,
+            features_cpu_ms,
+            stages_ms: Stages {
+                index_calculation: i,
+                map_construction: c,
+                texture_mapping: m,
+                lighting: l,
+                shadowing: s,
+            },
+        },
+    };
+    if json {
+        println!("{}", serde_json::to_string(&report)?);
+        return Ok(());
+    }
+    let r = &report.satf;
+    println!(
+        "wrote {} ({}x{}, {} clusters, {} layers, {} HSVs ({} uniform), {} strands) on {} ({})",
+        report.output,
+        size[0],
+        size[1],
+        r.clusters,
+        r.layers,
+        r.hsvs,
+        r.uniform_hsvs,
+        r.cluster_strands,
+        report.adapter.name,
+        report.adapter.backend
+    );
+    match &stats.timings {
+        t @ Timings::Passes(_) => println!("{t}; frame {:.3} ms", t.total_ms().unwrap_or(0.0)),
+        Timings::NotSupported => println!("GPU timestamps: not supported by this device"),
+    }
+    println!(
+        "CPU: clusters {clusters_cpu_ms:.0} ms, sector features {features_cpu_ms:.0} ms; database {} ({} samples)",
+        r.database, r.database_samples
+    );
+    Ok(())
+}
