@@ -37,6 +37,9 @@ enum Command {
     BakeAo(cmd::bake_ao::Args),
     /// Render a scene (`.toml`), hair files, or the built-in demo to PNG or EXR.
     Render(cmd::render::Args),
+    /// The split image of the hybrid paper's Figure 1: strands left, volume right, the LOD
+    /// transition between; mean FLIP and timings of both, optionally over a distance sweep.
+    Compare(cmd::compare::Args),
     /// Bake the SATF technique's HRIR database (Xu et al. 2006), or check one with --check.
     SatfBake(cmd::satf_bake::Args),
 }
@@ -52,6 +55,7 @@ fn main() -> ExitCode {
         Command::Cards(a) => cmd::cards::run(a),
         Command::BakeAo(a) => cmd::bake_ao::run(a),
         Command::Render(a) => cmd::render::run(a),
+        Command::Compare(a) => cmd::compare::run(a),
         Command::SatfBake(a) => cmd::satf_bake::run(a),
     };
     match result {

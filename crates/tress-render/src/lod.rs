@@ -29,6 +29,9 @@ use crate::strands::StrandSettings;
 use crate::volume::{ShadowMode, VolumeSettings};
 use crate::{Camera, FrameInputs, GpuContext, RenderError, shaders};
 
+/// The CPU twins of the blend factor and the dither thresholds (`tress_shading::volume`).
+pub use tress_shading::{dither_threshold, lod_factor};
+
 /// Which renderer draws the hair.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Technique {

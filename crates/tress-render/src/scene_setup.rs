@@ -14,6 +14,7 @@ use tress_scene::{HeadSource, Scene};
 
 use crate::strands::ThicknessFade;
 use crate::{Camera, DirectionalLight, HeadMesh, Material, RenderError, Shading, StrandSettings};
+use crate::{HybridSettings, ShadowMode, Transition, VolumeSettings};
 
 /// A scene resolved into renderer inputs (CPU side; upload with the renderer).
 #[derive(Clone, Debug)]
@@ -30,6 +31,10 @@ pub struct PreparedScene {
     pub background: Vec3,
     /// Strand technique settings from `[strands]`.
     pub strands: StrandSettings,
+    /// Volume technique settings from `[volume]`.
+    pub volume: VolumeSettings,
+    /// Level-of-detail settings from `[hybrid]`.
+    pub hybrid: HybridSettings,
 }
 
 impl PreparedScene {
@@ -68,6 +73,8 @@ impl PreparedScene {
             .map(|h| material(&h.material))
             .unwrap_or_default();
         let strands = strand_settings(scene)?;
+        let volume = volume_settings(scene)?;
+        let hybrid = hybrid_settings(scene)?;
         Ok(PreparedScene {
             hair,
             head,
@@ -75,6 +82,8 @@ impl PreparedScene {
             material,
             background: scene.background,
             strands,
+            volume,
+            hybrid,
         })
     }
 
@@ -145,6 +154,8 @@ struct StrandTable {
     pcf_radius: Option<u32>,
     shadow_bias: Option<f32>,
     shadow_width_px: Option<f32>,
+    shadow_mode: Option<String>,
+    ao: Option<bool>,
 }
 
 /// Strand settings from the scene's `[strands]` table over [`StrandSettings::default`].
@@ -166,8 +177,12 @@ pub fn strand_settings(scene: &Scene) -> Result<StrandSettings, RenderError> {
         shadow_alpha,
         pcf_radius,
         shadow_bias,
-        shadow_width_px
+        shadow_width_px,
+        ao
     );
+    if let Some(name) = &t.shadow_mode {
+        s.shadow_mode = name.parse::<ShadowMode>()?;
+    }
     if let Some(name) = &t.thickness_fade {
         s.thickness_fade = name.parse::<ThicknessFade>()?;
     }
@@ -191,6 +206,90 @@ pub use crate::patches::scene::{
 };
 
 pub use crate::satf::scene::{ClusterSource, SatfScene, load_clusters, satf_settings};
+
+/// The `[volume]` table: every key optional, unknown keys are errors naming key and line.
+#[derive(Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields, default)]
+struct VolumeTable {
+    resolution: Option<u32>,
+    voxelize: Option<String>,
+    reconstruction_radius: Option<u32>,
+    max_strands_per_voxel: Option<u32>,
+    steps: Option<u32>,
+    iso: Option<f32>,
+    skip_empty: Option<bool>,
+    shadows: Option<bool>,
+    shadow_alpha: Option<f32>,
+    shadow_step: Option<f32>,
+    shadow_offset: Option<f32>,
+    strand_width: Option<f32>,
+    ao: Option<bool>,
+    ao_radius: Option<f32>,
+    ao_samples: Option<u32>,
+    ao_intensity: Option<f32>,
+}
+
+/// Volume settings from the scene's `[volume]` table over [`VolumeSettings::default`].
+pub fn volume_settings(scene: &Scene) -> Result<VolumeSettings, RenderError> {
+    let t: VolumeTable = scene.technique_settings("volume").map_err(scene_error)?;
+    let mut s = VolumeSettings::default();
+    macro_rules! set {
+        ($($f:ident),*) => { $( if let Some(v) = t.$f { s.$f = v; } )* };
+    }
+    set!(
+        resolution,
+        reconstruction_radius,
+        max_strands_per_voxel,
+        steps,
+        iso,
+        skip_empty,
+        shadows,
+        shadow_alpha,
+        shadow_step,
+        shadow_offset,
+        strand_width,
+        ao,
+        ao_radius,
+        ao_samples,
+        ao_intensity
+    );
+    if let Some(name) = &t.voxelize {
+        s.voxelize = crate::volume::parse_voxelize_mode(name)?;
+    }
+    s.validate()?;
+    Ok(s)
+}
+
+/// The `[hybrid]` table.
+#[derive(Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields, default)]
+struct HybridTable {
+    lod: Option<f32>,
+    near: Option<f32>,
+    far: Option<f32>,
+    transition: Option<String>,
+}
+
+/// Level-of-detail settings from the scene's `[hybrid]` table over [`HybridSettings::default`]
+/// (`lod` absent: the factor comes from the camera distance).
+pub fn hybrid_settings(scene: &Scene) -> Result<HybridSettings, RenderError> {
+    let t: HybridTable = scene.technique_settings("hybrid").map_err(scene_error)?;
+    let mut s = HybridSettings {
+        lod: t.lod,
+        ..HybridSettings::default()
+    };
+    if let Some(v) = t.near {
+        s.near = v;
+    }
+    if let Some(v) = t.far {
+        s.far = v;
+    }
+    if let Some(name) = &t.transition {
+        s.transition = name.parse::<Transition>()?;
+    }
+    s.validate()?;
+    Ok(s)
+}
 
 /// Read a head mesh from an OBJ file ([`tress_hair::generate::TriMesh::read_obj`]: faces
 /// triangulated, normals from the file or the faces, hostile indices rejected). Errors name the
@@ -233,6 +332,44 @@ mod tests {
                 .to_string()
                 .contains("strands.k")
         );
+    }
+
+    #[test]
+    fn volume_and_hybrid_tables_override_defaults_and_name_bad_keys() {
+        let mut scene = Scene::from_str(
+            "[volume]\nresolution = 64\nvoxelize = \"vertices\"\n[hybrid]\nlod = 0.25\n\
+             transition = \"dither\"\n[strands]\nshadow_mode = \"volume\"\nao = true\n",
+            ".",
+        )
+        .unwrap();
+        let v = volume_settings(&scene).unwrap();
+        assert_eq!(
+            (v.resolution, v.voxelize),
+            (64, crate::VoxelizeMode::Vertices)
+        );
+        assert_eq!(v.steps, VolumeSettings::default().steps);
+        let h = hybrid_settings(&scene).unwrap();
+        assert_eq!((h.lod, h.transition), (Some(0.25), Transition::Dither));
+        let st = strand_settings(&scene).unwrap();
+        assert_eq!((st.shadow_mode, st.ao), (ShadowMode::Volume, true));
+        scene.apply_override("volume.steps=64").unwrap();
+        assert_eq!(volume_settings(&scene).unwrap().steps, 64);
+        for (text, needle) in [
+            ("[volume]\nsteps = 0\n", "volume.steps"),
+            ("[volume]\nstep = 4\n", "step"),
+            ("[volume]\nvoxelize = \"voxels\"\n", "voxels"),
+            ("[hybrid]\nlod = 2.0\n", "hybrid.lod"),
+            ("[hybrid]\ntransition = \"fade\"\n", "fade"),
+            ("[strands]\nshadow_mode = \"dsm\"\n", "dsm"),
+        ] {
+            let scene = Scene::from_str(text, ".").unwrap();
+            let err = volume_settings(&scene)
+                .and(hybrid_settings(&scene).map(|_| VolumeSettings::default()))
+                .and(strand_settings(&scene).map(|_| VolumeSettings::default()))
+                .unwrap_err()
+                .to_string();
+            assert!(err.contains(needle), "{err} should name {needle}");
+        }
     }
 
     #[test]

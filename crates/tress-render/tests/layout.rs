@@ -208,8 +208,8 @@ fn volume_types_match_wgsl() {
                 resolution,
                 march_shadows,
                 march_ao,
-                _pad0,
-                _pad1
+                strand_width,
+                _pad0
             ]
         );
     }

@@ -29,6 +29,9 @@ fn volume() -> VolumeSettings {
         resolution: 48,
         steps: 128,
         ao_radius: 0.1,
+        // The scene's unit is about 10 cm and its 1200 strands are sparse: thick strands make
+        // the shadows visible.
+        strand_width: 0.01,
         ..Default::default()
     }
 }
@@ -256,9 +259,13 @@ fn lod_0_is_the_strand_renderer_and_lod_1_the_raymarcher() {
         lod: Some(lod),
         ..Default::default()
     };
-    s.renderer.set_hybrid_settings(fixed(0.0)).expect("settings");
+    s.renderer
+        .set_hybrid_settings(fixed(0.0))
+        .expect("settings");
     let (lod0, stats0) = s.render(cam, true);
-    s.renderer.set_hybrid_settings(fixed(1.0)).expect("settings");
+    s.renderer
+        .set_hybrid_settings(fixed(1.0))
+        .expect("settings");
     let (lod1, stats1) = s.render(cam, true);
     assert_eq!(lod0.pixels, strands.pixels, "lod 0 = strands");
     assert_eq!(lod1.pixels, volume.pixels, "lod 1 = volume");
@@ -288,9 +295,17 @@ fn lod_0_is_the_strand_renderer_and_lod_1_the_raymarcher() {
     let mid = camera(7.5);
     let d = mid.eye().distance(s.hair.bounds.0);
     let (_, mid_stats) = s.render(mid, true);
-    assert!(mid_stats.lod > 0.05 && mid_stats.lod < 0.95, "{}", mid_stats.lod);
+    assert!(
+        mid_stats.lod > 0.05 && mid_stats.lod < 0.95,
+        "{}",
+        mid_stats.lod
+    );
     let want = tress_shading::lod_factor(d, 6.0, 9.0);
-    assert!((mid_stats.lod - want).abs() < 1e-5, "{} vs {want}", mid_stats.lod);
+    assert!(
+        (mid_stats.lod - want).abs() < 1e-5,
+        "{} vs {want}",
+        mid_stats.lod
+    );
 }
 
 #[test]
@@ -314,18 +329,24 @@ fn transitions_mix_the_two_renderers() {
             .expect("settings");
         let (mixed, stats) = s.render(cam, true);
         save(&format!("hybrid_{}", transition.name()), &mixed);
-        assert!(stats.gpu.expect("stats").timings.get("lod/blend").is_some() || !s.ctx.caps.timestamps);
+        assert!(
+            stats.gpu.expect("stats").timings.get("lod/blend").is_some() || !s.ctx.caps.timestamps
+        );
         let (mut from_volume, mut differing) = (0, 0);
         for ((m, a), b) in mixed.pixels.iter().zip(&strands.pixels).zip(&volume.pixels) {
             // Half-float targets: a few 1e-3 of rounding through the extra layer.
-            let near = |x: [f32; 4], y: [f32; 4]| x.iter().zip(&y).all(|(p, q)| (p - q).abs() <= 4e-3);
+            let near =
+                |x: [f32; 4], y: [f32; 4]| x.iter().zip(&y).all(|(p, q)| (p - q).abs() <= 4e-3);
             match transition {
                 Transition::Alpha => {
                     let want = [0, 1, 2, 3].map(|k| 0.5 * (a[k] + b[k]));
                     assert!(near(*m, want), "{m:?} vs {want:?}");
                 }
                 Transition::Dither => {
-                    assert!(near(*m, *a) || near(*m, *b), "{m:?} is neither {a:?} nor {b:?}");
+                    assert!(
+                        near(*m, *a) || near(*m, *b),
+                        "{m:?} is neither {a:?} nor {b:?}"
+                    );
                     if differs(*a, *b) {
                         differing += 1;
                         if near(*m, *b) {
@@ -338,7 +359,10 @@ fn transitions_mix_the_two_renderers() {
         if transition == Transition::Dither {
             // Factor 0.5: half of the Bayer thresholds are below it.
             let share = from_volume as f32 / differing as f32;
-            assert!((0.35..=0.65).contains(&share), "{from_volume} of {differing}");
+            assert!(
+                (0.35..=0.65).contains(&share),
+                "{from_volume} of {differing}"
+            );
         }
     }
 }
@@ -357,27 +381,44 @@ fn volume_shadows_and_ao_reach_the_rasterizer() {
         shadows: false,
         ..strands()
     };
-    s.renderer.set_settings(&s.ctx, unshadowed.clone()).expect("settings");
+    s.renderer
+        .set_settings(&s.ctx, unshadowed.clone())
+        .expect("settings");
     let (lit, lit_stats) = s.render(cam, true);
     assert!(lit_stats.volume.is_none());
     let volume_shadows = StrandSettings {
         shadow_mode: ShadowMode::Volume,
         ..strands()
     };
-    s.renderer.set_settings(&s.ctx, volume_shadows).expect("settings");
+    s.renderer
+        .set_settings(&s.ctx, volume_shadows)
+        .expect("settings");
     let (shadowed, stats) = s.render(cam, true);
     save("strands_volume_shadows", &shadowed);
-    assert!(stats.volume.is_some(), "the rasterizer's volume shadows voxelize");
+    assert!(
+        stats.volume.is_some(),
+        "the rasterizer's volume shadows voxelize"
+    );
     let gpu = stats.gpu.expect("stats");
     if let Timings::Passes(p) = &gpu.timings {
         let names: Vec<&str> = p.iter().map(|t| t.name).collect();
         // No shadow maps with volume shadows.
         assert_eq!(
             names,
-            ["volume/voxelize", "head", "strands/ppll_build", "strands/ppll_resolve"]
+            [
+                "volume/voxelize",
+                "head",
+                "strands/ppll_build",
+                "strands/ppll_resolve"
+            ]
         );
     }
-    assert!(mean(&shadowed) < 0.9 * mean(&lit), "{} vs {}", mean(&shadowed), mean(&lit));
+    assert!(
+        mean(&shadowed) < 0.9 * mean(&lit),
+        "{} vs {}",
+        mean(&shadowed),
+        mean(&lit)
+    );
     let with_ao = StrandSettings {
         ao: true,
         ..unshadowed
@@ -385,5 +426,10 @@ fn volume_shadows_and_ao_reach_the_rasterizer() {
     s.renderer.set_settings(&s.ctx, with_ao).expect("settings");
     let (occluded, _) = s.render(cam, true);
     save("strands_volume_ao", &occluded);
-    assert!(mean(&occluded) < 0.97 * mean(&lit), "{} vs {}", mean(&occluded), mean(&lit));
+    assert!(
+        mean(&occluded) < 0.97 * mean(&lit),
+        "{} vs {}",
+        mean(&occluded),
+        mean(&lit)
+    );
 }

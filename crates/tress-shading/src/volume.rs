@@ -14,14 +14,16 @@
 //!   continuous with the solid case (alpha 1 at `iso`). The shading normal is [`density_normal`],
 //!   `-∇density` normalized.
 //! - **Volume shadows (§3.4).** [`volume_shadow_strands`] marches from the point towards the
-//!   light and counts strands; that count replaces ADSM's `d · r` in
+//!   light and counts the strands passed; times the share in the ray's way
+//!   (`strand_width / voxel_size`, applied by the renderer) that count replaces ADSM's `d · r` in
 //!   [`crate::strand_visibility`]`(n, alpha) = (1 - alpha)^n`.
 //! - **Local ambient occlusion (§3.4).** [`volume_ao`] averages the density at `samples` points
 //!   spread evenly through a ball of radius `radius` around the point ([`ao_offset`]: a Fibonacci
-//!   spiral of directions at radii `cbrt(u)`, `u` a golden-ratio sequence, uniform in volume). The mean
-//!   density times the radius is the number of strands an average ray of that length meets;
-//!   scaled by `intensity` (the paper's tweak to match a ray tracer) it goes through the same
-//!   visibility `(1 - alpha)^n` as the shadows.
+//!   spiral of directions at radii `cbrt(u)`, `u` a golden-ratio sequence, uniform in volume).
+//!   The mean density times the radius is the number of strands an average ray of that length
+//!   passes; scaled by `intensity` (the paper's tweak to match a ray tracer; the renderer also
+//!   folds in the share of passed strands in a ray's way, `strand_width / voxel_size`) it goes
+//!   through the same visibility `(1 - alpha)^n` as the shadows.
 //! - **Level of detail (§3, §4).** [`lod_factor`] is `smoothstep(near, far, distance)`; the
 //!   dithered transition compares it with [`dither_threshold`], a 4 × 4 Bayer matrix.
 

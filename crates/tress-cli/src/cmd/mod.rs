@@ -1,7 +1,9 @@
 //! One module per subcommand.
 
+pub(crate) mod animate;
 pub(crate) mod bake_ao;
 pub(crate) mod cards;
+pub(crate) mod compare;
 pub(crate) mod compare_images;
 pub(crate) mod convert;
 pub(crate) mod generate;

@@ -10,7 +10,7 @@ use tress_render::patches::scene::{PatchScene, is_obj};
 use tress_render::scene_setup::{PreparedScene, frame_bounds, load_patches};
 use tress_render::{
     COLOR_FORMAT, FrameInputs, FrameStats, GpuContext, HeadGeometry, OffscreenTargets,
-    PatchFrameInputs, PatchFrameStats, PatchRenderer, Renderer, TargetFormats, Timings,
+    PatchFrameInputs, PatchFrameStats, PatchRenderer, TargetFormats, Timings,
     read_texture, wgpu,
 };
 use tress_scene::{HairSpec, Scene};
@@ -22,7 +22,7 @@ use crate::progress;
 pub(crate) const DEMO_SCENE: &str = include_str!("../../../../scenes/demo.toml");
 
 /// Techniques `render` can run today.
-const IMPLEMENTED: &[&str] = &["strands", "patches", "satf"];
+const IMPLEMENTED: &[&str] = &["strands", "volume", "hybrid", "patches", "satf"];
 
 /// Arguments of `tress render`.
 #[derive(clap::Args, Debug)]
@@ -50,10 +50,18 @@ pub(crate) struct Args {
     /// Print exactly one JSON object describing the frame.
     #[arg(long)]
     json: bool,
+    /// Render a sequence of N frames, written as OUT-0000.png, OUT-0001.png, ... (with
+    /// `--animate`; strands, volume and hybrid techniques).
+    #[arg(long, value_name = "N")]
+    frames: Option<u32>,
+    /// Move the hair over the sequence: `sway` (a procedural pendulum sway; the volume is
+    /// voxelized again every frame).
+    #[arg(long, value_name = "MOTION")]
+    animate: Option<String>,
 }
 
 #[derive(Serialize)]
-struct Report {
+pub(crate) struct Report {
     technique: String,
     width: u32,
     height: u32,
@@ -66,6 +74,10 @@ struct Report {
     output: String,
     #[serde(skip_serializing_if = "Option::is_none")]
     patches: Option<PatchReport>,
+    /// The hair volume, when the frame voxelized it (volume, hybrid, or strands with volume
+    /// shadows or AO).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    volume: Option<super::animate::VolumeReport>,
 }
 
 /// The `patches` technique's part of the report.
@@ -207,6 +219,14 @@ pub(crate) fn run(args: Args) -> Result<()> {
     if let Some(p) = &patches {
         return run_patches(&ctx, &args, &scene, &prepared, p, size, ext);
     }
+    if args.frames.is_some() || args.animate.is_some() {
+        let seq = super::animate::Sequence {
+            frames: args.frames,
+            animate: args.animate.as_deref(),
+            json: args.json,
+        };
+        return super::animate::run(&ctx, seq, &args.output, &scene, &prepared, size);
+    }
     let pb = progress::spinner(format!(
         "rendering {}x{} on {}",
         size[0], size[1], ctx.adapter_info.name
@@ -243,13 +263,18 @@ pub(crate) fn run(args: Args) -> Result<()> {
             }
             _ => println!("GPU timestamps: not supported by this device"),
         }
-        println!(
-            "PPLL: {} of {} nodes used, {} fragments dropped ({:.1} MiB)",
-            report.ppll.used,
-            report.ppll.capacity,
-            report.ppll.dropped,
-            report.ppll.bytes as f64 / (1u64 << 20) as f64
-        );
+        if report.ppll.capacity > 0 {
+            println!(
+                "PPLL: {} of {} nodes used, {} fragments dropped ({:.1} MiB)",
+                report.ppll.used,
+                report.ppll.capacity,
+                report.ppll.dropped,
+                report.ppll.bytes as f64 / (1u64 << 20) as f64
+            );
+        }
+        if let Some(v) = &report.volume {
+            println!("{v}");
+        }
     }
     Ok(())
 }
@@ -261,7 +286,7 @@ pub(crate) fn render_frame(
     prepared: &PreparedScene,
     size: [u32; 2],
 ) -> Result<(tress_render::LinearImage, FrameStats)> {
-    let mut renderer = Renderer::new(ctx, TargetFormats::default(), prepared.strands.clone())?;
+    let mut renderer = super::animate::renderer(ctx, scene, prepared)?;
     let targets = OffscreenTargets::new(ctx, size, COLOR_FORMAT)?;
     let hair = prepared
         .hair
@@ -298,7 +323,7 @@ pub(crate) fn render_frame(
 /// Constant ambient light added to every technique's shading (linear RGB per channel).
 pub(crate) const AMBIENT: f32 = 0.08;
 
-fn report(
+pub(crate) fn report(
     ctx: &GpuContext,
     scene: &Scene,
     output: &Path,
@@ -339,6 +364,7 @@ fn report(
         },
         output: output.display().to_string(),
         patches: None,
+        volume: super::animate::volume_report(stats),
     }
 }
 
@@ -399,6 +425,7 @@ fn run_patches(
             components: patches.mesh.component_count(),
             ao_bake_s: patches.ao_bake_seconds,
         }),
+        volume: None,
     };
     if args.json {
         println!("{}", serde_json::to_string(&report)?);

@@ -311,10 +311,10 @@ pub struct VolumeParams {
     pub march_shadows: u32,
     /// 1: AO in the raymarcher.
     pub march_ao: u32,
+    /// Effective strand width in world units (occlusion per strand crossing a voxel).
+    pub strand_width: f32,
     /// Padding.
     pub _pad0: u32,
-    /// Padding.
-    pub _pad1: u32,
 }
 
 /// `struct VoxelStats` in `volume/voxelize.wgsl`: the voxel counters' occupancy.

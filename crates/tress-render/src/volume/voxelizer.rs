@@ -333,6 +333,7 @@ impl Voxelizer {
             resolution: settings.resolution,
             march_shadows: u32::from(settings.shadows),
             march_ao: u32::from(settings.ao),
+            strand_width: settings.strand_width,
             ..Default::default()
         }
     }

@@ -31,7 +31,7 @@ struct Material {
 @group(1) @binding(9) var<uniform> volume_params: VolumeParams;
 
 // Volume shadow (§3.4): the visibility (1 - alpha)^n of world point `p` from light `i`, n the
-// strands counted through the volume towards the light.
+// strands counted through the volume towards the light times the hit fraction.
 fn volume_light_visibility(i: u32, p: vec3<f32>) -> f32 {
     if volume_grid.occupied == 0u {
         return 1.0;
@@ -39,7 +39,13 @@ fn volume_light_visibility(i: u32, p: vec3<f32>) -> f32 {
     let n = volume_shadow_strands(
         volume_texture, volume_sampler, f32(volume_grid.res), voxel_from_world(volume_grid, p),
         lights.lights[i].to_light, volume_params.shadow_step, volume_params.shadow_offset);
-    return strand_visibility(n, volume_params.shadow_alpha);
+    return strand_visibility(n * volume_hit_fraction(), volume_params.shadow_alpha);
+}
+
+// The share of the strands crossing a voxel that a ray through it meets: strand width over
+// voxel size (turns strands passed into strands in the way).
+fn volume_hit_fraction() -> f32 {
+    return volume_params.strand_width * volume_grid.scale;
 }
 
 // Local ambient occlusion (§3.4) of world point `p` from the density around it.
@@ -50,7 +56,7 @@ fn volume_ambient_occlusion(p: vec3<f32>) -> f32 {
     return volume_ao(
         volume_texture, volume_sampler, f32(volume_grid.res), voxel_from_world(volume_grid, p),
         volume_params.ao_radius * volume_grid.scale, volume_params.ao_samples,
-        volume_params.ao_intensity, volume_params.shadow_alpha);
+        volume_params.ao_intensity * volume_hit_fraction(), volume_params.shadow_alpha);
 }
 
 // Shadow visibility of world point `p` from light `i` (1: lit): the volume shadow when

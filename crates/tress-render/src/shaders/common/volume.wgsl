@@ -65,8 +65,10 @@ struct VolumeParams {
     // 1: volume shadows / ambient occlusion in the raymarcher.
     march_shadows: u32,
     march_ao: u32,
+    // Effective strand width in world units: a strand crossing a voxel blocks a ray through it
+    // with probability strand_width / voxel_size (shadows and ambient occlusion count those).
+    strand_width: f32,
     _pad0: u32,
-    _pad1: u32,
 }
 
 const VOXELIZE_VERTICES: u32 = 0u;

@@ -1,0 +1,292 @@
+//! `tress render --technique volume|hybrid`, `--frames N --animate sway` and `tress compare` end
+//! to end on a tiny generated asset through the real GPU path (lavapipe in CI). Like every GPU
+//! test here they fail without an adapter unless TRESS_SKIP_GPU_TESTS=1.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn tress(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_tress"))
+        .args(args)
+        .output()
+        .expect("run tress")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("tress-volume-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn skip_gpu() -> bool {
+    std::env::var("TRESS_SKIP_GPU_TESTS").is_ok_and(|v| v == "1")
+}
+
+fn ok(out: &Output) {
+    assert!(
+        out.status.success(),
+        "tress failed (GPU tests need a Vulkan adapter: install mesa-vulkan-drivers for \
+         lavapipe, or set TRESS_SKIP_GPU_TESTS=1 to skip on purpose): {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// A small straight-hair asset, generated once per test binary run.
+fn asset() -> PathBuf {
+    let hair = tmp("tiny.hair");
+    if !hair.exists() {
+        let out = tress(&[
+            "generate",
+            "straight",
+            "-o",
+            hair.to_str().unwrap(),
+            "--strands",
+            "300",
+            "--vertices",
+            "8",
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    hair
+}
+
+const SIZE: [&str; 4] = ["--width", "96", "--height", "64"];
+const SMALL: [&str; 4] = ["--set", "volume.resolution=32", "--set", "volume.steps=96"];
+
+fn image(path: &Path) -> image::RgbaImage {
+    image::open(path).unwrap().to_rgba8()
+}
+
+fn hair_pixels(img: &image::RgbaImage) -> usize {
+    let bg = *img.get_pixel(0, 0);
+    img.pixels().filter(|p| **p != bg).count()
+}
+
+#[test]
+fn volume_and_hybrid_render_and_report_the_volume() {
+    if skip_gpu() {
+        return;
+    }
+    let hair = asset();
+    let png = tmp("volume.png");
+    let mut args = vec![
+        "render",
+        hair.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+    ];
+    args.extend(SIZE);
+    args.extend(SMALL);
+    args.extend(["--technique", "volume", "--json"]);
+    let out = tress(&args);
+    ok(&out);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    assert_eq!(v["technique"], "volume");
+    assert_eq!(v["volume"]["resolution"], 32);
+    assert_eq!(v["volume"]["bytes"], 32 * 32 * 32 * 20 + 4 * 4 * 4 * 4);
+    assert!(v["volume"]["voxelize_ms"].is_number() || v["volume"]["voxelize_ms"].is_null());
+    assert_eq!(v["ppll"]["used"], 0);
+    assert!(hair_pixels(&image(&png)) > 96 * 64 / 50);
+
+    // The strand renderer reports no volume unless its shadows or AO need one.
+    let mut args = vec![
+        "render",
+        hair.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+    ];
+    args.extend(SIZE);
+    args.extend(SMALL);
+    args.push("--json");
+    let v: serde_json::Value = serde_json::from_slice(&tress(&args).stdout).expect("json");
+    assert!(v.get("volume").is_none(), "{v}");
+    args.extend(["--set", "strands.shadow_mode=volume"]);
+    let v: serde_json::Value = serde_json::from_slice(&tress(&args).stdout).expect("json");
+    assert_eq!(v["volume"]["resolution"], 32, "{v}");
+
+    let mut args = vec![
+        "render",
+        hair.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+    ];
+    args.extend(SIZE);
+    args.extend(SMALL);
+    args.extend(["--technique", "hybrid", "--set", "hybrid.lod=0.5", "--json"]);
+    let out = tress(&args);
+    ok(&out);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(v["technique"], "hybrid");
+    assert!(v["ppll"]["used"].as_u64().unwrap() > 0 && v["volume"]["resolution"] == 32);
+}
+
+#[test]
+fn bad_volume_settings_are_one_line_errors() {
+    let png = tmp("x.png");
+    for (set, needle) in [
+        ("volume.steps=0", "volume.steps"),
+        ("volume.stepz=4", "stepz"),
+        ("volume.voxelize=voxels", "voxels"),
+        ("hybrid.lod=3", "hybrid.lod"),
+        ("strands.shadow_mode=dsm", "dsm"),
+    ] {
+        let out = tress(&["render", "-o", png.to_str().unwrap(), "--set", set]);
+        assert_eq!(out.status.code(), Some(2), "{set}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains(needle), "{err} should name {needle}");
+    }
+    let out = tress(&[
+        "render",
+        "-o",
+        png.to_str().unwrap(),
+        "--frames",
+        "2",
+        "--animate",
+        "spin",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("spin"));
+}
+
+#[test]
+fn a_swaying_sequence_is_voxelized_every_frame() {
+    if skip_gpu() {
+        return;
+    }
+    let hair = asset();
+    let png = tmp("seq.png");
+    let mut args = vec![
+        "render",
+        hair.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+    ];
+    args.extend(SIZE);
+    args.extend(SMALL);
+    args.extend([
+        "--technique",
+        "volume",
+        "--frames",
+        "3",
+        "--animate",
+        "sway",
+        "--json",
+    ]);
+    let out = tress(&args);
+    ok(&out);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    let frames = v["frames"].as_array().expect("frames");
+    assert_eq!(frames.len(), 3);
+    let images: Vec<image::RgbaImage> = (0..3)
+        .map(|i| {
+            let p = tmp(&format!("seq-{i:04}.png"));
+            assert_eq!(frames[i]["output"], p.to_str().unwrap());
+            assert_eq!(frames[i]["volume"]["resolution"], 32);
+            image(&p)
+        })
+        .collect();
+    // The hair moves: consecutive frames differ.
+    for w in images.windows(2) {
+        let d = w[0]
+            .pixels()
+            .zip(w[1].pixels())
+            .filter(|(a, b)| a != b)
+            .count();
+        assert!(d > 20, "only {d} pixels changed between frames");
+    }
+}
+
+#[test]
+fn compare_splits_strands_and_volume_and_sweeps_distances() {
+    if skip_gpu() {
+        return;
+    }
+    let hair = asset();
+    let split = tmp("split.png");
+    let mut args = vec![
+        "compare",
+        hair.to_str().unwrap(),
+        "-o",
+        split.to_str().unwrap(),
+    ];
+    args.extend(SIZE);
+    args.extend(SMALL);
+    args.extend(["--repeat", "1", "--json"]);
+    let out = tress(&args);
+    ok(&out);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    let row = &v["rows"][0];
+    assert!(row["coverage_pct"].as_f64().unwrap() > 1.0, "{row}");
+    let flip = row["flip"].as_f64().unwrap();
+    assert!(flip > 0.0 && flip < 1.0, "{row}");
+    assert_eq!(row["volume"]["volume"]["resolution"], 32);
+
+    // The left third is the strand render, the right third the volume render.
+    let strands = tmp("strands.png");
+    let volume = tmp("vol.png");
+    for (path, technique) in [(&strands, "strands"), (&volume, "volume")] {
+        let mut args = vec![
+            "render",
+            hair.to_str().unwrap(),
+            "-o",
+            path.to_str().unwrap(),
+        ];
+        args.extend(SIZE);
+        args.extend(SMALL);
+        args.extend(["--technique", technique]);
+        ok(&tress(&args));
+    }
+    let (img, s, vol) = (image(&split), image(&strands), image(&volume));
+    for y in 0..64 {
+        for x in 0..30 {
+            assert_eq!(img.get_pixel(x, y), s.get_pixel(x, y), "({x}, {y})");
+            assert_eq!(
+                img.get_pixel(95 - x, y),
+                vol.get_pixel(95 - x, y),
+                "({}, {y})",
+                95 - x
+            );
+        }
+    }
+
+    let csv = tmp("sweep.csv");
+    let mut args = vec![
+        "compare",
+        hair.to_str().unwrap(),
+        "-o",
+        split.to_str().unwrap(),
+    ];
+    args.extend(SIZE);
+    args.extend(SMALL);
+    args.extend([
+        "--repeat",
+        "1",
+        "--sweep",
+        "2",
+        "--far-factor",
+        "4",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    ok(&tress(&args));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 3, "{text}");
+    assert!(lines[0].starts_with("distance,coverage_pct,flip,flip_hair"));
+    let dist = |l: &str| l.split(',').next().unwrap().parse::<f32>().unwrap();
+    assert!(
+        (dist(lines[2]) / dist(lines[1]) - 4.0).abs() < 0.01,
+        "{text}"
+    );
+    let cov = |l: &str| l.split(',').nth(1).unwrap().parse::<f32>().unwrap();
+    assert!(
+        cov(lines[2]) < cov(lines[1]),
+        "farther hair covers less: {text}"
+    );
+    assert!(tmp("split-0000.png").exists() && tmp("split-0001.png").exists());
+}
