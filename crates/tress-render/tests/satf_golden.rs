@@ -11,7 +11,7 @@ use std::sync::OnceLock;
 
 use glam::Vec3;
 use tress_hair::generate::Head;
-use tress_render::satf::{Reflectance, SatfSettings};
+use tress_render::satf::{Reflectance, SatfSettings, StageTiming};
 use tress_render::{
     COLOR_FORMAT, Camera, DirectionalLight, HeadGeometry, HeadMesh, OffscreenTargets, SatfDatabase,
     SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, TargetFormats, read_texture,
@@ -171,6 +171,28 @@ fn generated_clusters_on_a_head() {
     assert_eq!(stats.clusters, 12);
     assert_eq!(stats.hsvs, 12 * 8 * 3 * 6);
     assert_eq!(stats.uniform_hsvs + stats.interpolated_hsvs, stats.hsvs);
+    check("satf_generated", &img);
+}
+
+/// Wall-clock stage timing submits every stage alone: the same image, every stage timed.
+#[test]
+fn wall_clock_stage_timing_renders_the_same_image() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let settings = SatfSettings {
+        stage_timing: StageTiming::WallClock,
+        ..settings()
+    };
+    let (img, stats) = render(settings, &clusters());
+    match &stats.timings {
+        tress_render::Timings::Passes(p) => {
+            let names: Vec<&str> = p.iter().map(|t| t.name).collect();
+            assert_eq!(names, tress_render::satf::PASS_NAMES);
+            assert!(p.iter().all(|t| t.ms >= 0.0));
+        }
+        other => panic!("wall-clock timings are always available: {other:?}"),
+    }
     check("satf_generated", &img);
 }
 

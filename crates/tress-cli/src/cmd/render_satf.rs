@@ -76,6 +76,8 @@ struct SatfReport {
     uniform_hsvs: u32,
     interpolated_hsvs: u32,
     atlas: [u32; 2],
+    /// `timestamps` (GPU) or `wall_clock` (each stage submitted alone, CPU clock).
+    stage_timing: &'static str,
     clusters_cpu_ms: f64,
     features_cpu_ms: f64,
     /// GPU milliseconds of Table 1's stages (null without timestamps).
@@ -204,6 +206,10 @@ pub(crate) fn run(
             uniform_hsvs: stats.uniform_hsvs,
             interpolated_hsvs: stats.interpolated_hsvs,
             atlas,
+            stage_timing: match satf.settings.stage_timing {
+                tress_render::satf::StageTiming::Timestamps => "timestamps",
+                tress_render::satf::StageTiming::WallClock => "wall_clock",
+            },
             clusters_cpu_ms,
             features_cpu_ms,
             stages_ms: Stages {

@@ -14,6 +14,7 @@
 //! ```
 
 use std::cell::Cell;
+use std::time::Instant;
 
 use glam::Vec3;
 use tress_satf::online::ShadowApprox;
@@ -24,7 +25,7 @@ use super::index_calc::Uniforms;
 use super::texture_map::TextureMapTargets;
 use super::{
     ClusterShadow, IndexCalc, Lighting, MapBuild, PASS_NAMES, Reflectance, SMaps, SatfDatabase,
-    SatfGeometry, SatfHead, SatfSettings, TextureMap,
+    SatfGeometry, SatfHead, SatfSettings, StageTiming, TextureMap,
 };
 use crate::gpu::types::{CameraUniform, LightsUniform, SatfCounters, SatfParams};
 use crate::gpu::{PassTiming, TargetFormats, Targets, Timings, read_buffer};
@@ -97,6 +98,8 @@ const TIMESTAMP_OFFSET: u64 = 256;
 struct SatfTimer {
     queries: Option<(wgpu::QuerySet, wgpu::Buffer)>,
     written: Vec<Cell<bool>>,
+    /// Set while stages are timed by wall clock: no timestamp writes.
+    suspended: Cell<bool>,
     period_ns: f64,
 }
 
@@ -121,6 +124,7 @@ impl SatfTimer {
         SatfTimer {
             queries,
             written: vec![Cell::new(false); PASS_NAMES.len()],
+            suspended: Cell::new(false),
             period_ns: f64::from(ctx.queue.get_timestamp_period()),
         }
     }
@@ -134,7 +138,7 @@ impl SatfTimer {
     ) -> Option<(&wgpu::QuerySet, Option<u32>, Option<u32>)> {
         let i = PASS_NAMES.iter().position(|n| *n == name)?;
         let (set, _) = self.queries.as_ref()?;
-        if !begin && !end {
+        if self.suspended.get() || (!begin && !end) {
             // A middle pass of a stage split over several passes writes nothing.
             return None;
         }
@@ -211,6 +215,56 @@ impl SatfTimer {
                 })
                 .collect(),
         )
+    }
+}
+
+/// The frame's command encoder; with [`StageTiming::WallClock`] each stage is submitted alone
+/// and waited for, and its wall-clock time recorded.
+struct Stages<'a> {
+    ctx: &'a GpuContext,
+    encoder: wgpu::CommandEncoder,
+    wall: Option<(Instant, Vec<PassTiming>)>,
+}
+
+impl<'a> Stages<'a> {
+    fn new(ctx: &'a GpuContext, timing: StageTiming) -> Result<Self, RenderError> {
+        let wall = match timing {
+            StageTiming::Timestamps => None,
+            StageTiming::WallClock => {
+                // Earlier work must not count toward the first stage.
+                ctx.wait_idle()?;
+                Some((Instant::now(), Vec::new()))
+            }
+        };
+        Ok(Stages {
+            ctx,
+            encoder: Self::encoder(ctx),
+            wall,
+        })
+    }
+
+    fn encoder(ctx: &GpuContext) -> wgpu::CommandEncoder {
+        ctx.device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("satf/encoder"),
+            })
+    }
+
+    /// End stage `name`: with wall-clock timing, submit what was recorded, wait, and record it.
+    fn cut(&mut self, name: &'static str) -> Result<(), RenderError> {
+        let Some((start, times)) = &mut self.wall else {
+            return Ok(());
+        };
+        let done = std::mem::replace(&mut self.encoder, Self::encoder(self.ctx));
+        self.ctx.queue.submit([done.finish()]);
+        self.ctx.wait_idle()?;
+        let now = Instant::now();
+        times.push(PassTiming {
+            name,
+            ms: (now - *start).as_secs_f64() * 1e3,
+        });
+        *start = now;
+        Ok(())
     }
 }
 
@@ -475,113 +529,128 @@ impl SatfRenderer {
         };
         let timer = &self.timer;
         timer.written.iter().for_each(|w| w.set(false));
-        ctx.scoped("rendering a SATF frame", || {
-            let mut encoder = ctx
-                .device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("satf/encoder"),
-                });
-            if let Some(g) = geometry {
-                // ---- index calculation (§6.2.1) and map construction (§6.2.2)
-                let ts = timer.compute("satf/index_calculation", true, true);
-                self.index_calc.encode(ctx, &mut encoder, u, g, db, ts);
-                let ts = timer.compute("satf/map_construction", true, true);
-                self.map_build.encode(ctx, &mut encoder, u, g, db, ts);
-                // ---- shadowing (§6.4): shadow maps between clusters, then s-maps
-                let mut begun = false;
-                if shadows {
-                    self.cluster_shadow.encode(
+        let timing = self.settings.stage_timing;
+        timer.suspended.set(timing == StageTiming::WallClock);
+        let wall_times =
+            ctx.scoped("rendering a SATF frame", || -> Result<_, RenderError> {
+                let mut stages = Stages::new(ctx, timing)?;
+                if let Some(g) = geometry {
+                    let encoder = &mut stages.encoder;
+                    // ---- index calculation (§6.2.1) and map construction (§6.2.2)
+                    let ts = timer.compute("satf/index_calculation", true, true);
+                    self.index_calc.encode(ctx, encoder, u, g, db, ts);
+                    stages.cut("satf/index_calculation")?;
+                    let ts = timer.compute("satf/map_construction", true, true);
+                    self.map_build
+                        .encode(ctx, &mut stages.encoder, u, g, db, ts);
+                    stages.cut("satf/map_construction")?;
+                    // ---- shadowing (§6.4): shadow maps between clusters, then s-maps
+                    let mut begun = false;
+                    if shadows {
+                        self.cluster_shadow.encode(
+                            ctx,
+                            &mut stages.encoder,
+                            &self.shadow_targets,
+                            &light_cameras,
+                            Some(g),
+                            inputs.head,
+                            |i, _| {
+                                begun = true;
+                                timer.render("satf/shadowing", i == 0, false)
+                            },
+                        );
+                    }
+                    let ts = timer.compute("satf/shadowing", !begun, true);
+                    self.s_maps
+                        .encode(ctx, &mut stages.encoder, u, g, &self.shadow_targets, ts);
+                    stages.cut("satf/shadowing")?;
+                    // ---- lighting (§6.3)
+                    let ts = timer.compute("satf/lighting", true, true);
+                    self.lighting.encode(ctx, &mut stages.encoder, u, g, ts);
+                    stages.cut("satf/lighting")?;
+                }
+                // ---- opaque head, depth written
+                {
+                    let (color_load, depth_load) = match inputs.clear {
+                        Some(c) => (wgpu::LoadOp::Clear(c), wgpu::LoadOp::Clear(1.0)),
+                        None => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+                    };
+                    let mut pass = stages
+                        .encoder
+                        .begin_render_pass(&wgpu::RenderPassDescriptor {
+                            label: Some("satf/head/pass"),
+                            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                                view: targets.color,
+                                depth_slice: None,
+                                resolve_target: None,
+                                ops: wgpu::Operations {
+                                    load: color_load,
+                                    store: wgpu::StoreOp::Store,
+                                },
+                            })],
+                            depth_stencil_attachment: Some(
+                                wgpu::RenderPassDepthStencilAttachment {
+                                    view: targets.depth,
+                                    depth_ops: Some(wgpu::Operations {
+                                        load: depth_load,
+                                        store: wgpu::StoreOp::Store,
+                                    }),
+                                    stencil_ops: None,
+                                },
+                            ),
+                            timestamp_writes: timer.render("satf/head", true, true),
+                            occlusion_query_set: None,
+                            multiview_mask: None,
+                        });
+                    if let Some(head) = inputs.head {
+                        self.head.draw(
+                            ctx,
+                            &mut pass,
+                            [&self.camera, &self.lights, &self.params],
+                            &self.shadow_targets,
+                            head,
+                        );
+                    }
+                }
+                stages.cut("satf/head")?;
+                // ---- texture mapping, shading and blending (§6.5)
+                if let Some(g) = geometry {
+                    self.texture_map.encode(
                         ctx,
-                        &mut encoder,
-                        &self.shadow_targets,
-                        &light_cameras,
-                        Some(g),
-                        inputs.head,
-                        |i, _| {
-                            begun = true;
-                            timer.render("satf/shadowing", i == 0, false)
+                        &mut stages.encoder,
+                        &self.camera,
+                        &self.params,
+                        g,
+                        &order,
+                        TextureMapTargets {
+                            color: targets.color,
+                            depth: targets.depth,
                         },
+                        timer.render("satf/texture_mapping", true, true),
+                    );
+                    stages.cut("satf/texture_mapping")?;
+                    stages.encoder.copy_buffer_to_buffer(
+                        &g.counters,
+                        0,
+                        &self.readback,
+                        0,
+                        Some(size_of::<SatfCounters>() as u64),
                     );
                 }
-                let ts = timer.compute("satf/shadowing", !begun, true);
-                self.s_maps
-                    .encode(ctx, &mut encoder, u, g, &self.shadow_targets, ts);
-                // ---- lighting (§6.3)
-                let ts = timer.compute("satf/lighting", true, true);
-                self.lighting.encode(ctx, &mut encoder, u, g, ts);
-            }
-            // ---- opaque head, depth written
-            {
-                let (color_load, depth_load) = match inputs.clear {
-                    Some(c) => (wgpu::LoadOp::Clear(c), wgpu::LoadOp::Clear(1.0)),
-                    None => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
-                };
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("satf/head/pass"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: targets.color,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: color_load,
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: targets.depth,
-                        depth_ops: Some(wgpu::Operations {
-                            load: depth_load,
-                            store: wgpu::StoreOp::Store,
-                        }),
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: timer.render("satf/head", true, true),
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
-                if let Some(head) = inputs.head {
-                    self.head.draw(
-                        ctx,
-                        &mut pass,
-                        [&self.camera, &self.lights, &self.params],
-                        &self.shadow_targets,
-                        head,
-                    );
-                }
-            }
-            // ---- texture mapping, shading and blending (§6.5)
-            if let Some(g) = geometry {
-                self.texture_map.encode(
-                    ctx,
-                    &mut encoder,
-                    &self.camera,
-                    &self.params,
-                    g,
-                    &order,
-                    TextureMapTargets {
-                        color: targets.color,
-                        depth: targets.depth,
-                    },
-                    timer.render("satf/texture_mapping", true, true),
-                );
-                encoder.copy_buffer_to_buffer(
-                    &g.counters,
-                    0,
-                    &self.readback,
-                    0,
-                    Some(size_of::<SatfCounters>() as u64),
-                );
-            }
-            timer.resolve(&mut encoder, &self.readback);
-            ctx.queue.submit([encoder.finish()]);
-        })?;
+                timer.resolve(&mut stages.encoder, &self.readback);
+                ctx.queue.submit([stages.encoder.finish()]);
+                Ok(stages.wall.map(|(_, times)| times))
+            })??;
 
         // ---- readback (waits for the frame)
         let bytes = read_buffer(ctx, &self.readback, 0..self.readback.size())?;
         let counters: SatfCounters = geometry.map_or_else(SatfCounters::default, |_| {
             bytemuck::pod_read_unaligned(&bytes[..size_of::<SatfCounters>()])
         });
-        let timings = self.timer.parse(&bytes[TIMESTAMP_OFFSET as usize..]);
+        let timings = match wall_times {
+            Some(times) => Timings::Passes(times),
+            None => self.timer.parse(&bytes[TIMESTAMP_OFFSET as usize..]),
+        };
         let l = geometry.map(|g| g.layout);
         Ok(SatfFrameStats {
             frame,

@@ -50,6 +50,7 @@
 //! shadow_opacity = 0.7
 //! shadow_bias = 0.5
 //! pcf_radius = 1
+//! stage_timing = "timestamps"   # or "wall_clock" (each stage submitted alone and waited for)
 //! ```
 
 use std::path::PathBuf;
@@ -65,7 +66,7 @@ use tress_satf::generate::{ClusterStyle, generate_clusters};
 use tress_satf::online::ShadowApprox;
 use tress_scene::{HeadSource, Scene};
 
-use super::{Reflectance, SatfSettings};
+use super::{Reflectance, SatfSettings, StageTiming};
 use crate::RenderError;
 
 /// `[satf.bake]`.
@@ -150,6 +151,7 @@ struct SatfTable {
     shadow_opacity: Option<f32>,
     shadow_bias: Option<f32>,
     pcf_radius: Option<u32>,
+    stage_timing: Option<String>,
 }
 
 /// Where the clusters come from (see the module docs).
@@ -232,6 +234,9 @@ pub fn satf_settings(scene: &Scene) -> Result<SatfScene, RenderError> {
     }
     if let Some(r) = &t.reflectance {
         s.reflectance = r.parse::<Reflectance>()?;
+    }
+    if let Some(r) = &t.stage_timing {
+        s.stage_timing = r.parse::<StageTiming>()?;
     }
     s.validate()?;
 
