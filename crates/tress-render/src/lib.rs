@@ -58,6 +58,7 @@ pub use gpu::{
 };
 pub use head::{HeadGeometry, HeadMesh};
 pub use inputs::{Camera, DirectionalLight, Material};
+pub use lod::{HybridSettings, Technique, Transition};
 pub use patches::{
     PatchFrameInputs, PatchFrameStats, PatchGeometry, PatchRenderer, PatchSettings, RenderScheme,
 };
@@ -65,7 +66,6 @@ pub use satf::{
     SatfDatabase, SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, SatfSettings,
 };
 pub use scene_setup::PreparedScene;
-pub use lod::{HybridSettings, Technique, Transition};
 pub use stats::{FrameStats, GpuReport, StatsReadback, VolumeFrame};
 pub use strands::{PpllStats, Shading, StrandGeometry, StrandSettings, ThicknessFade};
 pub use volume::{ShadowMode, VolumeSettings, VolumeStats, VoxelizeMode, Voxelizer};

@@ -57,10 +57,10 @@ pub mod coverage;
 pub mod kajiya_kay;
 pub mod scheuermann;
 pub mod shadow;
-pub mod volume;
-pub mod voxelize;
 #[cfg(test)]
 mod test_util;
+pub mod volume;
+pub mod voxelize;
 
 pub use blend::{
     StrandFragment, TailAccum, blend_front_to_back, blend_under, composite_over_background,

@@ -10,8 +10,7 @@ use tress_render::patches::scene::{PatchScene, is_obj};
 use tress_render::scene_setup::{PreparedScene, frame_bounds, load_patches};
 use tress_render::{
     COLOR_FORMAT, FrameInputs, FrameStats, GpuContext, HeadGeometry, OffscreenTargets,
-    PatchFrameInputs, PatchFrameStats, PatchRenderer, TargetFormats, Timings,
-    read_texture, wgpu,
+    PatchFrameInputs, PatchFrameStats, PatchRenderer, TargetFormats, Timings, read_texture, wgpu,
 };
 use tress_scene::{HairSpec, Scene};
 
