@@ -176,8 +176,8 @@ fn volume_types_match_wgsl() {
             "VolumeGrid",
             VolumeGrid,
             [
-                origin, scale, bounds_min, voxel_size, bounds_max, res, occupied, _pad0, _pad1,
-                _pad2
+                origin, scale, bounds_min, voxel_size, bounds_max, res, box_min, occupied, box_max,
+                _pad0
             ]
         );
         check!(
@@ -224,6 +224,12 @@ fn volume_types_match_wgsl() {
     let text = shaders::compose("volume/volume_bounds.wgsl").expect("composes");
     let m = naga::front::wgsl::parse_str(&text).expect("parses");
     check!(&m, "BoundsKeys", BoundsKeys, [lo, hi]);
+    check!(
+        &m,
+        "ResolveArgs",
+        ResolveArgs,
+        [groups, _pad0, origin, _pad1, end, _pad2]
+    );
     let text = shaders::compose("lod_blend.wgsl").expect("composes");
     let m = naga::front::wgsl::parse_str(&text).expect("parses");
     check!(

@@ -274,3 +274,49 @@ fn empty_hair_gives_an_unoccupied_grid() {
     assert!(r.counts.iter().all(|c| *c == 0));
     assert!(r.texels.iter().all(|t| t[3] == 0.0));
 }
+
+#[test]
+fn moving_hair_leaves_no_stale_voxels() {
+    if common::gpu().is_none() {
+        return;
+    }
+    // The resolve only writes the hair's box and the last frame's: after the hair moved (and
+    // the grid with it), the texture must be exactly a fresh voxelization's.
+    let ctx = common::gpu().expect("gpu");
+    let s = settings(VoxelizeMode::Vertices);
+    let a = common::sphere_hair(1.0, 300, 9);
+    let b = HairAsset::from_counts(
+        a.positions()
+            .iter()
+            .map(|p| Vec3::new(p.x * 0.4, p.y * 1.5, p.z * 0.3) + Vec3::X)
+            .collect(),
+        &a.vertex_counts().collect::<Vec<_>>(),
+    )
+    .expect("asset");
+    let (ga, gb) = (
+        StrandGeometry::new(&ctx, &a).expect("upload"),
+        StrandGeometry::new(&ctx, &b).expect("upload"),
+    );
+    let mut reused = Voxelizer::new(&ctx, RES).expect("voxelizer");
+    reused.voxelize(&ctx, &ga, &s).expect("voxelize a");
+    let before = reused.read_back(&ctx).expect("readback");
+    reused.voxelize(&ctx, &gb, &s).expect("voxelize b");
+    let after = reused.read_back(&ctx).expect("readback");
+    let mut fresh = Voxelizer::new(&ctx, RES).expect("voxelizer");
+    fresh.voxelize(&ctx, &gb, &s).expect("voxelize b");
+    let want = fresh.read_back(&ctx).expect("readback");
+    assert_eq!(after.texels, want.texels);
+    assert_eq!(after.occupancy, want.occupancy);
+    // The test is not trivial: the two frames' boxes differ, and a's texels reached outside b's.
+    assert_ne!(before.grid.box_min, after.grid.box_min);
+    let outside = |v: &VolumeReadback, i: usize| {
+        let r = RES as usize;
+        let p = [i % r, (i / r) % r, i / (r * r)];
+        (0..3).any(|k| p[k] < v.grid.box_min[k] as usize || p[k] >= v.grid.box_max[k] as usize)
+    };
+    let stale = (0..before.texels.len())
+        .filter(|&i| before.texels[i][3] > 0.0 && outside(&after, i))
+        .count();
+    assert!(stale > 10, "{stale}");
+    assert!((0..after.texels.len()).all(|i| !outside(&after, i) || after.texels[i] == [0.0; 4]));
+}

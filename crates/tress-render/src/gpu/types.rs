@@ -251,12 +251,30 @@ pub struct VolumeGrid {
     pub bounds_max: [f32; 3],
     /// Voxels per axis.
     pub res: u32,
+    /// First voxel the resolve writes from the counters.
+    pub box_min: [u32; 3],
     /// 1 when the hair has vertices.
     pub occupied: u32,
+    /// One past the last voxel the resolve writes from the counters.
+    pub box_max: [u32; 3],
     /// Padding.
     pub _pad0: u32,
+}
+
+/// `struct ResolveArgs` in `shaders/common/volume.wgsl`: the resolve's indirect dispatch.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct ResolveArgs {
+    /// Workgroups (4³ voxels each) per axis.
+    pub groups: [u32; 3],
+    /// Padding.
+    pub _pad0: u32,
+    /// First voxel resolved.
+    pub origin: [u32; 3],
     /// Padding.
     pub _pad1: u32,
+    /// One past the last voxel resolved.
+    pub end: [u32; 3],
     /// Padding.
     pub _pad2: u32,
 }

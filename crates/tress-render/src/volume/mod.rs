@@ -33,7 +33,11 @@
 //!   (§3.3, Figure 4) and writes `rgba16float` texels — rgb the mean tangent, a the density — into
 //!   a 3D texture sampled trilinearly by everything downstream. It also marks an occupancy volume
 //!   of `8³`-voxel blocks (each non-empty voxel marks the blocks within one voxel of it, the
-//!   trilinear footprint).
+//!   trilinear footprint). It runs only over the voxels the hair's box touches (grown by the
+//!   filter radius) and last frame's box, which it zeroes: the bounds pass writes that region as
+//!   an indirect dispatch, so the cost follows the hair's extent rather than `resolution³`, and
+//!   every texel outside the box holds zero (a test moves the hair and compares with a fresh
+//!   voxelizer).
 //! - **Raymarch (§3.3 "Surface", "Shading").** The AABB's back faces are rasterized (so the camera
 //!   may be inside the box); each fragment intersects its eye ray with the box and marches
 //!   `steps` constant steps (default 512, the paper's) across the box diagonal, accumulating

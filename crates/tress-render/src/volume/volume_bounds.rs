@@ -53,7 +53,12 @@ impl VolumeBounds {
                 .device
                 .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                     label: Some("volume/volume_bounds/layout"),
-                    entries: &[uniform(0, c), storage(1, c, false), storage(2, c, false)],
+                    entries: &[
+                        uniform(0, c),
+                        storage(1, c, false),
+                        storage(2, c, false),
+                        storage(3, c, false),
+                    ],
                 });
             let pipeline_layout =
                 ctx.device

@@ -15,6 +15,7 @@ struct BoundsKeys {
 @group(0) @binding(0) var<uniform> volume: VolumeParams;
 @group(0) @binding(1) var<storage, read_write> keys: BoundsKeys;
 @group(0) @binding(2) var<storage, read_write> grid: VolumeGrid;
+@group(0) @binding(3) var<storage, read_write> resolve_args: ResolveArgs;
 
 var<workgroup> wg_lo: array<atomic<u32>, 3>;
 var<workgroup> wg_hi: array<atomic<u32>, 3>;
@@ -69,6 +70,19 @@ fn reduce(
     }
 }
 
+// The resolve's region: this frame's box and last frame's (still in `grid`), so that texels the
+// last frame wrote outside this frame's box are zeroed. Then the new grid.
+fn set_grid(g: VolumeGrid) {
+    let prev_min = select(g.box_min, grid.box_min, any(grid.box_max > grid.box_min));
+    let prev_max = select(g.box_max, grid.box_max, any(grid.box_max > grid.box_min));
+    let origin = min(prev_min, g.box_min);
+    let end = max(prev_max, g.box_max);
+    resolve_args.origin = origin;
+    resolve_args.end = end;
+    resolve_args.groups = (end - origin + vec3<u32>(3u)) / 4u;
+    grid = g;
+}
+
 @compute @workgroup_size(1)
 fn fit() {
     var lo: vec3<f32>;
@@ -83,7 +97,7 @@ fn fit() {
         g.occupied = 0u;
         g.scale = 1.0;
         g.voxel_size = 1.0;
-        grid = g;
+        set_grid(g);
         return;
     }
     // tress_shading::VoxelGrid::fit, same operations in the same order.
@@ -98,5 +112,11 @@ fn fit() {
     g.bounds_min = lo;
     g.bounds_max = hi;
     g.occupied = 1u;
-    grid = g;
+    // Voxels the hair's box touches, grown by the vertices mode's filter radius.
+    let r = vec3<u32>(select(0u, volume.reconstruction_radius, volume.voxelize == VOXELIZE_VERTICES));
+    let v0 = fixed_point(g, lo) >> vec3<u32>(SUBVOXEL_BITS);
+    let v1 = fixed_point(g, hi) >> vec3<u32>(SUBVOXEL_BITS);
+    g.box_min = max(v0, r) - r;
+    g.box_max = min(v1 + vec3<u32>(1u) + r, vec3<u32>(g.res));
+    set_grid(g);
 }

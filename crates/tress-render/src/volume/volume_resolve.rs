@@ -43,6 +43,7 @@ impl VolumeResolve {
                             count: None,
                         },
                         storage(6, c, false),
+                        storage(7, c, true),
                     ],
                 });
             let pipeline_layout =
@@ -66,16 +67,16 @@ impl VolumeResolve {
         })
     }
 
-    /// Record one invocation per voxel of a `res³` grid into an open compute pass.
+    /// Record one invocation per voxel of the region the bounds pass wrote into `args` (a
+    /// `ResolveArgs` buffer: its first 12 bytes are the indirect dispatch).
     pub(crate) fn encode(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
         group: &wgpu::BindGroup,
-        res: u32,
+        args: &wgpu::Buffer,
     ) {
-        let n = res.div_ceil(4);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, group, &[]);
-        pass.dispatch_workgroups(n, n, n);
+        pass.dispatch_workgroups_indirect(args, 0);
     }
 }

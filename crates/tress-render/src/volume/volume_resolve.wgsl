@@ -12,15 +12,28 @@
 @group(0) @binding(4) var<storage, read> tangent_z: array<u32>;
 @group(0) @binding(5) var volume_out: texture_storage_3d<rgba16float, write>;
 @group(0) @binding(6) var<storage, read_write> occupancy: array<atomic<u32>>;
+@group(0) @binding(7) var<storage, read> region: ResolveArgs;
 
+// Dispatched indirectly over `region` (this frame's box and the last frame's): texels outside
+// this frame's box are zeroed, so every texel outside it holds zero.
 @compute @workgroup_size(4, 4, 4)
-fn resolve(@builtin(global_invocation_id) v: vec3<u32>) {
+fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     let res = volume.resolution;
-    if any(v >= vec3<u32>(res)) {
+    let v = id + region.origin;
+    if any(v >= min(region.end, vec3<u32>(res))) {
+        return;
+    }
+    if any(v < grid.box_min) || any(v >= grid.box_max) {
+        textureStore(volume_out, v, vec4<f32>(0.0));
         return;
     }
     let vertices = volume.voxelize == VOXELIZE_VERTICES;
     let r = i32(select(0u, volume.reconstruction_radius, vertices));
+    // Most voxels are empty: without a filter their texel is zero and they mark nothing.
+    if r == 0 && counts[voxel_index(res, v)] == 0u {
+        textureStore(volume_out, v, vec4<f32>(0.0));
+        return;
+    }
     var c = 0u;
     var sum = vec3<u32>(0u);
     for (var dz = -r; dz <= r; dz = dz + 1) {

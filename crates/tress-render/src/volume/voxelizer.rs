@@ -4,7 +4,7 @@
 use wgpu::util::DeviceExt;
 
 use crate::bind::Layouts;
-use crate::gpu::types::{BoundsKeys, VolumeGrid, VolumeParams, VoxelStats};
+use crate::gpu::types::{BoundsKeys, ResolveArgs, VolumeGrid, VolumeParams, VoxelStats};
 use crate::gpu::{f16_to_f32, read_buffer};
 use crate::strands::StrandGeometry;
 use crate::volume::volume_resolve::VOLUME_FORMAT;
@@ -20,6 +20,7 @@ struct Grid {
     keys: wgpu::Buffer,
     grid: wgpu::Buffer,
     grid_uniform: wgpu::Buffer,
+    resolve_args: wgpu::Buffer,
     counts: wgpu::Buffer,
     tangent_xy: wgpu::Buffer,
     tangent_z: wgpu::Buffer,
@@ -72,6 +73,8 @@ fn entries<'a>(bufs: &[&'a wgpu::Buffer]) -> Vec<wgpu::BindGroupEntry<'a>> {
         })
         .collect()
 }
+
+const GRID_BYTES: u64 = std::mem::size_of::<VolumeGrid>() as u64;
 
 fn buffer(ctx: &GpuContext, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
     ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -154,8 +157,19 @@ impl Voxelizer {
             use wgpu::BufferUsages as U;
             let storage = U::STORAGE | U::COPY_DST | U::COPY_SRC;
             let keys = buffer(ctx, "volume/bounds/keys", 32, storage);
-            let grid = buffer(ctx, "volume/bounds/grid", 64, storage);
-            let grid_uniform = buffer(ctx, "volume/grid/uniform", 64, U::UNIFORM | U::COPY_DST);
+            let grid = buffer(ctx, "volume/bounds/grid", GRID_BYTES, storage);
+            let grid_uniform = buffer(
+                ctx,
+                "volume/grid/uniform",
+                GRID_BYTES,
+                U::UNIFORM | U::COPY_DST,
+            );
+            let resolve_args = buffer(
+                ctx,
+                "volume/bounds/resolve-args",
+                std::mem::size_of::<ResolveArgs>() as u64,
+                storage | U::INDIRECT,
+            );
             let counts = buffer(ctx, "volume/voxelize/counts", counter_bytes, storage);
             let tangent_xy = buffer(ctx, "volume/voxelize/tangent-xy", counter_bytes, storage);
             let tangent_z = buffer(ctx, "volume/voxelize/tangent-z", counter_bytes, storage);
@@ -192,7 +206,7 @@ impl Voxelizer {
             let bounds_group = group(
                 "volume/volume_bounds/bind-group",
                 &bounds.layout,
-                &entries(&[params, &keys, &grid]),
+                &entries(&[params, &keys, &grid, &resolve_args]),
             );
             let voxelize_group = group(
                 "volume/voxelize/bind-group",
@@ -208,12 +222,17 @@ impl Voxelizer {
                 binding: 6,
                 resource: occupancy.as_entire_binding(),
             });
+            e.push(wgpu::BindGroupEntry {
+                binding: 7,
+                resource: resolve_args.as_entire_binding(),
+            });
             let resolve_group = group("volume/volume_resolve/bind-group", &resolve.layout, &e);
             Grid {
                 res,
                 keys,
                 grid,
                 grid_uniform,
+                resolve_args,
                 counts,
                 tangent_xy,
                 tangent_z,
@@ -302,9 +321,10 @@ impl Voxelizer {
             });
             self.bounds.encode(&mut pass, &g.bounds_group, geometry);
             self.voxelize.encode(&mut pass, &g.voxelize_group, geometry);
-            self.resolve.encode(&mut pass, &g.resolve_group, g.res);
+            self.resolve
+                .encode(&mut pass, &g.resolve_group, &g.resolve_args);
         }
-        encoder.copy_buffer_to_buffer(&g.grid, 0, &g.grid_uniform, 0, Some(64));
+        encoder.copy_buffer_to_buffer(&g.grid, 0, &g.grid_uniform, 0, Some(GRID_BYTES));
     }
 
     /// The [`VolumeParams`] of a voxelization of `geometry` with `settings` (the raymarching and
@@ -405,7 +425,7 @@ impl Voxelizer {
         let z = words(&g.tangent_z)?;
         let blocks = u64::from(g.res.div_ceil(OCCUPANCY_BLOCK)).pow(3);
         let occupancy = bytemuck::cast_slice(&self.read(ctx, &g.occupancy, blocks * 4)?).to_vec();
-        let grid = bytemuck::pod_read_unaligned(&self.read(ctx, &g.grid, 64)?);
+        let grid = bytemuck::pod_read_unaligned(&self.read(ctx, &g.grid, GRID_BYTES)?);
         let keys = bytemuck::pod_read_unaligned(&self.read(ctx, &g.keys, 24)?);
         let stats = bytemuck::pod_read_unaligned(&self.read(ctx, &g.stats, 16)?);
         // The texture, row by row with the copy alignment.

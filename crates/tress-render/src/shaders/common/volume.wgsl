@@ -19,10 +19,25 @@ struct VolumeGrid {
     bounds_max: vec3<f32>,
     // Voxels per axis.
     res: u32,
+    // The voxels this frame's resolve writes from the counters, [box_min, box_max): those the
+    // hair's box touches, grown by the reconstruction filter's radius (every texel outside holds
+    // zero).
+    box_min: vec3<u32>,
     // 1 when the hair has vertices (the box is valid).
     occupied: u32,
+    box_max: vec3<u32>,
     _pad0: u32,
+}
+
+// Where the resolve runs (mirrored by `gpu::types::ResolveArgs`): `groups` are the indirect
+// dispatch's workgroup counts (4³ voxels each) over [origin, end), the union of this frame's and
+// the last frame's boxes (so what the last frame wrote outside this frame's box is zeroed).
+struct ResolveArgs {
+    groups: vec3<u32>,
+    _pad0: u32,
+    origin: vec3<u32>,
     _pad1: u32,
+    end: vec3<u32>,
     _pad2: u32,
 }
 
