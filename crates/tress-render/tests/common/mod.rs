@@ -84,3 +84,45 @@ pub fn sphere_hair(radius: f32, strands: u32, vertices: u32) -> HairAsset {
     let counts = vec![vertices; strands as usize];
     HairAsset::from_counts(positions, &counts).expect("valid asset")
 }
+
+/// Compare `image` with the golden PNG `tests/golden/{name}.png` by mean FLIP (design rule 7),
+/// or write it when `TRESS_BLESS=1`. On a mismatch the render and the FLIP error map go to
+/// `CARGO_TARGET_TMPDIR/golden/` and the test fails naming them. Returns the mean FLIP.
+pub fn check_golden(name: &str, image: &image::RgbImage, max_mean_flip: f32) -> f32 {
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/golden")
+        .join(format!("{name}.png"));
+    if std::env::var("TRESS_BLESS").is_ok_and(|v| v == "1") {
+        image.save(&path).expect("write golden");
+        eprintln!("blessed {}", path.display());
+        return 0.0;
+    }
+    let golden = image::open(&path)
+        .unwrap_or_else(|e| panic!("{}: {e}; render it with TRESS_BLESS=1", path.display()))
+        .to_rgb8();
+    assert_eq!(golden.dimensions(), image.dimensions(), "{name}: size");
+    let flip = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(golden.width(), golden.height(), &golden),
+        nv_flip::FlipImageRgb8::with_data(image.width(), image.height(), image),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    let mean = nv_flip::FlipPool::from_image(&flip).mean();
+    if mean > max_mean_flip {
+        let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("golden");
+        std::fs::create_dir_all(&dir).expect("tmp dir");
+        image
+            .save(dir.join(format!("{name}.png")))
+            .expect("write render");
+        let map = flip.apply_color_lut(&nv_flip::magma_lut());
+        image::RgbImage::from_raw(map.width(), map.height(), map.to_vec())
+            .expect("flip map")
+            .save(dir.join(format!("{name}.flip.png")))
+            .expect("write flip map");
+        panic!(
+            "{name}: mean FLIP {mean:.4} > {max_mean_flip}; see {}",
+            dir.display()
+        );
+    }
+    eprintln!("{name}: mean FLIP {mean:.5}");
+    mean
+}

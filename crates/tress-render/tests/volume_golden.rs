@@ -1,0 +1,145 @@
+//! Golden images of the volume technique and of the rasterizer with volume shadows and AO
+//! (design rule 7): the strand goldens' scene (`tests/golden.rs`), compared with the committed
+//! PNGs under `tests/golden/` by mean FLIP. Re-bless with
+//! `TRESS_BLESS=1 cargo test -p tress-render --test volume_golden`.
+
+mod common;
+
+use glam::Vec3;
+use tress_render::{
+    COLOR_FORMAT, Camera, DirectionalLight, FrameInputs, HeadGeometry, HeadMesh, HybridSettings,
+    Material, OffscreenTargets, Renderer, ShadowMode, StrandSettings, TargetFormats, Technique,
+    Transition, VolumeSettings, VoxelizeMode, read_texture,
+};
+
+const SIZE: u32 = 128;
+/// Mean FLIP allowed (as the strand goldens).
+const MAX_MEAN_FLIP: f32 = 0.03;
+
+fn strands() -> StrandSettings {
+    StrandSettings {
+        shadow_r: 40.0,
+        shadow_bias: 0.005,
+        ..Default::default()
+    }
+}
+
+/// At the scene's scale (head radius 1, about 10 cm; 1200 sparse strands).
+fn volume() -> VolumeSettings {
+    VolumeSettings {
+        resolution: 64,
+        steps: 256,
+        ao_radius: 0.1,
+        strand_width: 0.01,
+        ..Default::default()
+    }
+}
+
+fn render(
+    technique: Technique,
+    strands: StrandSettings,
+    volume: VolumeSettings,
+    hybrid: HybridSettings,
+) -> image::RgbImage {
+    let ctx = common::gpu().expect("checked by the caller");
+    let mut r = Renderer::new(&ctx, TargetFormats::default(), strands).expect("renderer");
+    r.set_volume_settings(&ctx, volume).expect("volume");
+    r.set_hybrid_settings(hybrid).expect("hybrid");
+    r.set_technique(technique);
+    let hair = r
+        .upload_hair(&ctx, &common::sphere_hair(1.0, 1200, 12))
+        .expect("hair");
+    let head =
+        HeadGeometry::new(&ctx, &HeadMesh::uv_sphere(Vec3::ZERO, 0.97, 24, 32)).expect("head");
+    let t = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
+    let camera = Camera::look_at(
+        Vec3::new(2.6, 1.2, 4.4),
+        Vec3::new(0.0, -0.45, 0.0),
+        Vec3::Y,
+        45f32.to_radians(),
+        0.1,
+        20.0,
+        [SIZE, SIZE],
+    );
+    let lights = [DirectionalLight {
+        direction: Vec3::new(0.6, -0.6, -0.5),
+        color: Vec3::ONE,
+        intensity: 2.5,
+    }];
+    let inputs = FrameInputs {
+        camera,
+        lights: &lights,
+        ambient: Vec3::splat(0.06),
+        material: Material::default(),
+        hair: Some(&hair),
+        head: Some(&head),
+        clear: Some(wgpu::Color {
+            r: 0.15,
+            g: 0.16,
+            b: 0.18,
+            a: 1.0,
+        }),
+    };
+    let stats = r.render(&ctx, &t.targets(), &inputs).expect("frame");
+    let gpu = stats.gpu.expect("stats");
+    assert_eq!(gpu.ppll.dropped, 0);
+    assert!(gpu.volume.is_none_or(|v| v.dropped == 0));
+    let img = read_texture(&ctx, &t.color).expect("readback").to_srgb8();
+    image::DynamicImage::ImageRgba8(img).to_rgb8()
+}
+
+#[test]
+fn volume_kajiya_kay_with_volume_shadows_and_ao() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let img = render(
+        Technique::Volume,
+        strands(),
+        volume(),
+        HybridSettings::default(),
+    );
+    common::check_golden("volume_kajiya_kay", &img, MAX_MEAN_FLIP);
+}
+
+#[test]
+fn volume_vertices_mode_with_its_filter() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let v = VolumeSettings {
+        voxelize: VoxelizeMode::Vertices,
+        skip_empty: true,
+        ..volume()
+    };
+    let img = render(Technique::Volume, strands(), v, HybridSettings::default());
+    common::check_golden("volume_vertices", &img, MAX_MEAN_FLIP);
+}
+
+#[test]
+fn strands_with_volume_shadows_and_ao() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let s = StrandSettings {
+        shadow_mode: ShadowMode::Volume,
+        ao: true,
+        ..strands()
+    };
+    let img = render(Technique::Strands, s, volume(), HybridSettings::default());
+    common::check_golden("strands_volume_shadows_ao", &img, MAX_MEAN_FLIP);
+}
+
+#[test]
+fn hybrid_dithered_halfway() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let h = HybridSettings {
+        lod: Some(0.5),
+        transition: Transition::Dither,
+        ..Default::default()
+    };
+    let img = render(Technique::Hybrid, strands(), volume(), h);
+    common::check_golden("hybrid_dither_half", &img, MAX_MEAN_FLIP);
+}
