@@ -10,7 +10,7 @@
 //!   (`n · area(parent)`), or always when the node has more than [`MAX_LEAF`] primitives. When
 //!   all centroids coincide, or below depth [`SAH_DEPTH`] no longer matters, the node is split at
 //!   the median instead, which bounds the depth by `SAH_DEPTH + log2(n)` and so the traversal
-//!   stack. Subtrees over more than [`PARALLEL_MIN`] primitives are built on rayon's threads.
+//!   stack. Subtrees over more than 8192 primitives are built on rayon's threads.
 //! - **Layout.** Nodes are stored depth-first with the left child right after its parent; a leaf
 //!   holds a range of [`Bvh::order`], the primitive indices in leaf order (callers reorder their
 //!   primitives by it so a leaf's primitives are contiguous in memory).

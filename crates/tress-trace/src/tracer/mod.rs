@@ -284,12 +284,12 @@ impl Tracer {
             let r = p.refs[pos];
             if r.id & TRIANGLE != 0 {
                 let id = r.id & !TRIANGLE;
-                let tri = p.triangles[id as usize];
+                let tri = &p.triangles[id as usize];
                 intersect_triangle(ray, tri.v0, tri.e1, tri.e2).map(|h| {
                     (
                         h.t,
                         HitKind::Triangle {
-                            tri,
+                            tri: *tri,
                             id,
                             u: h.u,
                             v: h.v,
@@ -297,10 +297,10 @@ impl Tracer {
                     )
                 })
             } else {
-                let seg = p.segments[r.id as usize];
+                let seg = &p.segments[r.id as usize];
                 let (t, s) = seg.intersect(ray)?;
                 (r.owns(s) && hash_unit(key, u64::from(r.id)) < seg.alpha_at(s))
-                    .then_some((t, HitKind::Segment { seg, s }))
+                    .then_some((t, HitKind::Segment { seg: *seg, s }))
             }
         });
         let Some((t, kind)) = hit else {
