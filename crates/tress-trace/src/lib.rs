@@ -13,6 +13,13 @@
 //! let settings = tress_trace::TraceSettings { spp: 16, ..Default::default() };
 //! let image = tress_trace::render_reference(&scene, &settings)?;
 //! image.save("reference.png")?;
+//!
+//! // Score a technique's image (here read from a file; a GPU readback can be put in an
+//! // `Image` and converted with `DisplayImage::from_linear`) against the reference.
+//! let technique = tress_trace::DisplayImage::read("strands.png")?;
+//! let reference = tress_trace::DisplayImage::from_linear(&image);
+//! let scores = tress_trace::metrics::compare(&reference, &technique)?.scores;
+//! println!("FLIP {} RMSE {} SSIM {}", scores.flip, scores.rmse, scores.ssim);
 //! # Ok(())
 //! # }
 //! ```
