@@ -17,12 +17,11 @@
 //! in between do both draw into scratch layers that `lod_blend` mixes (see [`crate::lod`]).
 
 use glam::Vec3;
-use wgpu::util::DeviceExt;
+
+mod setup;
 
 use crate::bind::Layouts;
-use crate::gpu::types::{
-    self, CameraUniform, LightsUniform, MaterialUniform, StrandParams, VolumeParams,
-};
+use crate::gpu::types::{self, LightsUniform, VolumeParams};
 use crate::gpu::{GpuTimer, TargetFormats, Targets};
 use crate::head::{HeadGeometry, HeadPass};
 use crate::lod::{FramePlan, HybridSettings, LodBlend, LodLayers, Technique};
@@ -33,9 +32,7 @@ use crate::strands::{
     ppll,
 };
 use crate::volume::raymarch::RaymarchInputs;
-use crate::volume::{
-    Raymarch, ShadowMode, VolumeBinding, VolumeSettings, Voxelizer, volume_resources,
-};
+use crate::volume::{Raymarch, ShadowMode, VolumeSettings, Voxelizer};
 use crate::{Camera, DirectionalLight, GpuContext, MAX_LIGHTS, Material, RenderError};
 
 /// Most renders of one frame when PPLL fragments were dropped (see [`Renderer::render`]).
@@ -106,15 +103,6 @@ pub struct Renderer {
     frame: u64,
 }
 
-fn uniform_buffer<T: bytemuck::Pod>(ctx: &GpuContext, label: &str, value: &T) -> wgpu::Buffer {
-    ctx.device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents: bytemuck::bytes_of(value),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        })
-}
-
 /// The sphere around two spheres.
 fn union_sphere(a: (Vec3, f32), b: (Vec3, f32)) -> (Vec3, f32) {
     let d = a.0.distance(b.0);
@@ -129,254 +117,6 @@ fn union_sphere(a: (Vec3, f32), b: (Vec3, f32)) -> (Vec3, f32) {
 }
 
 impl Renderer {
-    /// Build the pipelines for targets of `formats`, with `settings` (validated).
-    pub fn new(
-        ctx: &GpuContext,
-        formats: TargetFormats,
-        settings: StrandSettings,
-    ) -> Result<Self, RenderError> {
-        settings.validate()?;
-        let layouts = ctx.scoped("creating bind group layouts", || Layouts::new(&ctx.device))?;
-        let (camera, params, lights, material) = ctx.scoped("creating uniforms", || {
-            (
-                uniform_buffer(ctx, "frame/uniforms/camera", &CameraUniform::default()),
-                uniform_buffer(ctx, "frame/uniforms/params", &StrandParams::default()),
-                uniform_buffer(ctx, "frame/uniforms/lights", &LightsUniform::default()),
-                uniform_buffer(ctx, "frame/uniforms/material", &MaterialUniform::default()),
-            )
-        })?;
-        let view_group = ctx.scoped("creating the view bind group", || {
-            ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("frame/view/bind-group"),
-                layout: &layouts.view,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: camera.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: params.as_entire_binding(),
-                    },
-                ],
-            })
-        })?;
-        let shadow = ShadowMap::new(ctx, &layouts, &params, settings.shadow_map_size)?;
-        let (volume_params, volume_sampler, fallback_volume) = volume_resources(ctx)?;
-        let lighting_group = Self::lighting_group(
-            ctx,
-            &layouts,
-            &lights,
-            &material,
-            &shadow,
-            VolumeBinding {
-                view: &fallback_volume.0,
-                sampler: &volume_sampler,
-                grid: &fallback_volume.1,
-                params: &volume_params,
-            },
-        )?;
-        let timer = GpuTimer::new(ctx, "frame", PASS_NAMES);
-        let ring = ReadbackRing::new(ctx, &timer, 3);
-        Ok(Renderer {
-            formats,
-            technique: Technique::Strands,
-            volume_settings: VolumeSettings::default(),
-            hybrid: HybridSettings::default(),
-            raymarch: Raymarch::new(ctx, &layouts, formats.color)?,
-            lod_blend: LodBlend::new(ctx, formats.color)?,
-            volume_params,
-            volume_sampler,
-            fallback_volume,
-            voxelizer: None,
-            layers: None,
-            head_pass: HeadPass::new(ctx, &layouts, formats.color)?,
-            build: PpllBuild::new(ctx, &layouts)?,
-            resolve: PpllResolve::new(ctx, &layouts, formats.color)?,
-            settings,
-            layouts,
-            camera,
-            params,
-            lights,
-            material,
-            view_group,
-            lighting_group,
-            shadow,
-            pool: None,
-            grown_capacity: None,
-            timer,
-            ring,
-            stats_readback: StatsReadback::Wait,
-            frame: 0,
-        })
-    }
-
-    fn lighting_group(
-        ctx: &GpuContext,
-        layouts: &Layouts,
-        lights: &wgpu::Buffer,
-        material: &wgpu::Buffer,
-        shadow: &ShadowMap,
-        volume: VolumeBinding<'_>,
-    ) -> Result<wgpu::BindGroup, RenderError> {
-        let mut entries = vec![
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: lights.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: material.as_entire_binding(),
-            },
-        ];
-        entries.extend(shadow.layer_views().iter().enumerate().map(|(i, v)| {
-            wgpu::BindGroupEntry {
-                binding: 2 + i as u32,
-                resource: wgpu::BindingResource::TextureView(v),
-            }
-        }));
-        let v = 2 + MAX_LIGHTS as u32;
-        entries.extend([
-            wgpu::BindGroupEntry {
-                binding: v,
-                resource: wgpu::BindingResource::TextureView(volume.view),
-            },
-            wgpu::BindGroupEntry {
-                binding: v + 1,
-                resource: wgpu::BindingResource::Sampler(volume.sampler),
-            },
-            wgpu::BindGroupEntry {
-                binding: v + 2,
-                resource: volume.grid.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: v + 3,
-                resource: volume.params.as_entire_binding(),
-            },
-        ]);
-        ctx.scoped("creating the lighting bind group", || {
-            ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("frame/lighting/bind-group"),
-                layout: &layouts.lighting,
-                entries: &entries,
-            })
-        })
-    }
-
-    /// Upload a hair asset for this renderer (same as [`StrandGeometry::new`]).
-    pub fn upload_hair(
-        &self,
-        ctx: &GpuContext,
-        asset: &tress_hair::HairAsset,
-    ) -> Result<StrandGeometry, RenderError> {
-        StrandGeometry::with_layout(ctx, &self.layouts.strands, asset)
-    }
-
-    /// The current settings.
-    pub fn settings(&self) -> &StrandSettings {
-        &self.settings
-    }
-
-    /// Change settings (validated). A new shadow map size reallocates the maps; new pool settings
-    /// resize the PPLL at the next frame.
-    pub fn set_settings(
-        &mut self,
-        ctx: &GpuContext,
-        settings: StrandSettings,
-    ) -> Result<(), RenderError> {
-        settings.validate()?;
-        if settings.shadow_map_size != self.shadow.size() {
-            self.shadow =
-                ShadowMap::new(ctx, &self.layouts, &self.params, settings.shadow_map_size)?;
-            self.rebuild_lighting_group(ctx)?;
-        }
-        if settings.ppll_nodes_per_pixel != self.settings.ppll_nodes_per_pixel
-            || settings.ppll_max_bytes != self.settings.ppll_max_bytes
-        {
-            self.pool = None;
-            self.grown_capacity = None;
-        }
-        self.settings = settings;
-        Ok(())
-    }
-
-    /// The technique that draws the hair (default [`Technique::Strands`]).
-    pub fn technique(&self) -> Technique {
-        self.technique
-    }
-
-    /// Choose the technique that draws the hair.
-    pub fn set_technique(&mut self, technique: Technique) {
-        self.technique = technique;
-    }
-
-    /// The volume settings.
-    pub fn volume_settings(&self) -> &VolumeSettings {
-        &self.volume_settings
-    }
-
-    /// Change the volume settings (validated). A new resolution reallocates the volume at the
-    /// next frame that needs it.
-    pub fn set_volume_settings(
-        &mut self,
-        ctx: &GpuContext,
-        settings: VolumeSettings,
-    ) -> Result<(), RenderError> {
-        settings.validate()?;
-        if let Some(v) = &mut self.voxelizer
-            && v.resolution() != settings.resolution
-        {
-            v.set_resolution(ctx, settings.resolution)?;
-            self.volume_settings = settings;
-            return self.rebuild_lighting_group(ctx);
-        }
-        self.volume_settings = settings;
-        Ok(())
-    }
-
-    /// The hybrid's settings.
-    pub fn hybrid_settings(&self) -> &HybridSettings {
-        &self.hybrid
-    }
-
-    /// Change the hybrid's settings (validated).
-    pub fn set_hybrid_settings(&mut self, settings: HybridSettings) -> Result<(), RenderError> {
-        settings.validate()?;
-        self.hybrid = settings;
-        Ok(())
-    }
-
-    /// The voxelizer, once a frame has needed the volume (for tools: its texture, a readback).
-    pub fn voxelizer(&self) -> Option<&Voxelizer> {
-        self.voxelizer.as_ref()
-    }
-
-    fn rebuild_lighting_group(&mut self, ctx: &GpuContext) -> Result<(), RenderError> {
-        let (view, grid) = match &self.voxelizer {
-            Some(v) => (v.view(), v.grid_uniform()),
-            None => (&self.fallback_volume.0, &self.fallback_volume.1),
-        };
-        self.lighting_group = Self::lighting_group(
-            ctx,
-            &self.layouts,
-            &self.lights,
-            &self.material,
-            &self.shadow,
-            VolumeBinding {
-                view,
-                sampler: &self.volume_sampler,
-                grid,
-                params: &self.volume_params,
-            },
-        )?;
-        Ok(())
-    }
-
-    /// How `render` reports GPU results (default [`StatsReadback::Wait`]).
-    pub fn set_stats_readback(&mut self, mode: StatsReadback) {
-        self.stats_readback = mode;
-    }
-
     /// Render one frame into `targets` and submit it on `ctx.queue`.
     ///
     /// With [`StatsReadback::Wait`] and a clearing frame (`inputs.clear` set), a frame that
