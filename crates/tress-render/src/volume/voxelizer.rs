@@ -53,7 +53,8 @@ pub struct VolumeReadback {
 }
 
 /// The strand voxelizer (§3.3): owns the counters, the volume texture and the three compute
-/// passes. One [`Voxelizer::encode`] per frame rebuilds the volume from the geometry as it is.
+/// passes. One voxelization per frame (recorded into the renderer's frame, or
+/// [`Voxelizer::voxelize`] on its own) rebuilds the volume from the geometry as it is.
 #[derive(Debug)]
 pub struct Voxelizer {
     bounds: VolumeBounds,
