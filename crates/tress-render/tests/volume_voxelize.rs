@@ -320,3 +320,35 @@ fn moving_hair_leaves_no_stale_voxels() {
     assert!(stale > 10, "{stale}");
     assert!((0..after.texels.len()).all(|i| !outside(&after, i) || after.texels[i] == [0.0; 4]));
 }
+
+#[test]
+fn the_renderer_refuses_a_resolution_the_device_cannot_hold() {
+    let Some(ctx) = common::gpu() else {
+        return;
+    };
+    let limit = ctx.caps.max_storage_binding.min(ctx.caps.max_buffer_size);
+    let Some(res) = (8..=1024u32).find(|r| u64::from(*r).pow(3) * 4 > limit) else {
+        return;
+    };
+    let mut r = tress_render::Renderer::new(
+        &ctx,
+        tress_render::TargetFormats::default(),
+        tress_render::StrandSettings::default(),
+    )
+    .expect("renderer");
+    let err = r
+        .set_volume_settings(
+            &ctx,
+            VolumeSettings {
+                resolution: res,
+                ..Default::default()
+            },
+        )
+        .expect_err("over the storage-binding limit");
+    assert!(matches!(err, RenderError::Limit { .. }), "{err}");
+    assert_eq!(
+        r.volume_settings().resolution,
+        256,
+        "the settings are unchanged"
+    );
+}

@@ -210,14 +210,16 @@ impl Renderer {
         &self.volume_settings
     }
 
-    /// Change the volume settings (validated). A new resolution reallocates the volume at the
-    /// next frame that needs it.
+    /// Change the volume settings (validated, and the resolution checked against the device's
+    /// limits). A new resolution reallocates the volume now when it exists, else at the next
+    /// frame that needs it.
     pub fn set_volume_settings(
         &mut self,
         ctx: &GpuContext,
         settings: VolumeSettings,
     ) -> Result<(), RenderError> {
         settings.validate()?;
+        Voxelizer::check(ctx, settings.resolution)?;
         if let Some(v) = &mut self.voxelizer
             && v.resolution() != settings.resolution
         {

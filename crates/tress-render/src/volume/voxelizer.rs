@@ -75,6 +75,10 @@ fn entries<'a>(bufs: &[&'a wgpu::Buffer]) -> Vec<wgpu::BindGroupEntry<'a>> {
         .collect()
 }
 
+/// Storage buffers the voxelize pass binds in the compute stage (counters, tangent sums, stats,
+/// grid, strand vertices and segments).
+const STORAGE_BUFFERS_PER_STAGE: u32 = 7;
+
 const GRID_BYTES: u64 = std::mem::size_of::<VolumeGrid>() as u64;
 
 fn buffer(ctx: &GpuContext, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
@@ -121,14 +125,10 @@ impl Voxelizer {
         })
     }
 
-    fn allocate(
-        ctx: &GpuContext,
-        bounds: &VolumeBounds,
-        voxelize: &Voxelize,
-        resolve: &VolumeResolve,
-        params: &wgpu::Buffer,
-        res: u32,
-    ) -> Result<Grid, RenderError> {
+    /// Check that the device can hold a `res³` volume and run the voxelizer: the resolution's
+    /// range, the 3D texture edge, each counter buffer against the storage-binding and buffer
+    /// limits, and the storage buffers the voxelize pass binds in one stage.
+    pub fn check(ctx: &GpuContext, res: u32) -> Result<(), RenderError> {
         let lo = tress_shading::voxelize::MIN_RESOLUTION;
         let hi = tress_shading::voxelize::MAX_RESOLUTION;
         if !(lo..=hi).contains(&res) {
@@ -137,6 +137,16 @@ impl Voxelizer {
             )));
         }
         let limits = ctx.device.limits();
+        if limits.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS_PER_STAGE {
+            return Err(RenderError::MissingCapability {
+                adapter: ctx.adapter_info.name.clone(),
+                missing: format!(
+                    "{STORAGE_BUFFERS_PER_STAGE} storage buffers per shader stage for the \
+                     voxelizer (has {})",
+                    limits.max_storage_buffers_per_shader_stage
+                ),
+            });
+        }
         if res > limits.max_texture_dimension_3d {
             return Err(RenderError::Limit {
                 what: format!("a {res}³ volume texture (edge)"),
@@ -153,6 +163,19 @@ impl Voxelizer {
                 limit,
             });
         }
+        Ok(())
+    }
+
+    fn allocate(
+        ctx: &GpuContext,
+        bounds: &VolumeBounds,
+        voxelize: &Voxelize,
+        resolve: &VolumeResolve,
+        params: &wgpu::Buffer,
+        res: u32,
+    ) -> Result<Grid, RenderError> {
+        Self::check(ctx, res)?;
+        let counter_bytes = u64::from(res).pow(3) * 4;
         let blocks = u64::from(res.div_ceil(OCCUPANCY_BLOCK)).pow(3) * 4;
         ctx.scoped("allocating the volume", || {
             use wgpu::BufferUsages as U;
