@@ -163,7 +163,7 @@ impl Stage {
         Ok((
             image,
             Side {
-                gpu_ms: total.map(|t| t / f64::from(repeat.max(1))),
+                gpu_ms: total.map(|t| t / f64::from(repeat)),
                 volume: volume_report(&stats),
             },
         ))
@@ -224,6 +224,9 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let steps = args.sweep.unwrap_or(1);
     if !(1..=64).contains(&steps) {
         bail!("--sweep must be in 1..=64, got {steps}");
+    }
+    if !(1..=1000).contains(&args.repeat) {
+        bail!("--repeat must be in 1..=1000, got {}", args.repeat);
     }
     if args.csv.is_some() && args.sweep.is_none() {
         bail!("--csv needs --sweep N");
