@@ -45,6 +45,7 @@ pub mod lod;
 pub mod patches;
 pub mod satf;
 pub mod scene_setup;
+pub mod session;
 pub mod shaders;
 mod stats;
 pub mod strands;

@@ -40,6 +40,7 @@ pub struct PreparedScene {
 impl PreparedScene {
     /// Load the scene's hair and head and convert its settings. Errors name the file or key.
     pub fn load(scene: &Scene) -> Result<PreparedScene, RenderError> {
+        let settings = Self::load_settings(scene)?;
         let assets = scene.load_hair().map_err(scene_error)?;
         let hair = if assets.is_empty() {
             None
@@ -58,6 +59,16 @@ impl PreparedScene {
                 })
             }
         };
+        Ok(PreparedScene {
+            hair,
+            head,
+            ..settings
+        })
+    }
+
+    /// The scene's lights, material, background and technique settings, without loading hair
+    /// or head (`hair` and `head` are `None`). Errors name the key.
+    pub fn load_settings(scene: &Scene) -> Result<PreparedScene, RenderError> {
         let lights = scene
             .lights
             .iter()
@@ -76,8 +87,8 @@ impl PreparedScene {
         let volume = volume_settings(scene)?;
         let hybrid = hybrid_settings(scene)?;
         Ok(PreparedScene {
-            hair,
-            head,
+            hair: None,
+            head: None,
             lights,
             material,
             background: scene.background,

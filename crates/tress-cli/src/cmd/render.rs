@@ -6,19 +6,16 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use glam::Vec3;
 use serde::Serialize;
-use tress_render::patches::scene::{PatchScene, is_obj};
+use tress_render::patches::scene::PatchScene;
 use tress_render::scene_setup::{PreparedScene, frame_bounds, load_patches};
 use tress_render::{
     COLOR_FORMAT, FrameInputs, FrameStats, GpuContext, HeadGeometry, OffscreenTargets,
     PatchFrameInputs, PatchFrameStats, PatchRenderer, TargetFormats, Timings, read_texture, wgpu,
 };
-use tress_scene::{HairSpec, Scene};
+use tress_scene::Scene;
 
 use crate::progress;
 
-/// The built-in demo (`scenes/demo.toml`): the generated ponytail on the generated head, at 10%
-/// of the paper's strand count so that a CPU Vulkan renders it in seconds.
-pub(crate) const DEMO_SCENE: &str = include_str!("../../../../scenes/demo.toml");
 
 /// Techniques `render` can run today.
 const IMPLEMENTED: &[&str] = &["strands", "volume", "hybrid", "patches", "satf"];
@@ -109,43 +106,10 @@ struct Ppll {
     bytes: u64,
 }
 
-/// Build the scene the inputs describe, before any settings from the command line.
+/// Build the scene the inputs describe, before any settings from the command line (see
+/// [`tress_render::session::scene_from_inputs`]).
 pub(crate) fn base_scene(inputs: &[PathBuf]) -> Result<(Scene, bool)> {
-    let is_scene = |p: &PathBuf| {
-        p.extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("toml"))
-    };
-    match inputs {
-        [] => Ok((Scene::from_str(DEMO_SCENE, ".")?, false)),
-        [one] if is_scene(one) => Ok((Scene::from_path(one)?, false)),
-        many if many.iter().any(is_scene) => {
-            bail!("give either one scene file or hair files, not both")
-        }
-        [one] if is_obj(one) => {
-            let mut scene =
-                Scene::from_str("technique = \"patches\"\n[head]\ngenerated = false\n", ".")?;
-            // A TOML basic string: backslashes and quotes escaped.
-            let path = one
-                .to_str()
-                .filter(|p| !p.chars().any(char::is_control))
-                .with_context(|| format!("{}: unusable file name", one.display()))?
-                .replace('\\', "\\\\")
-                .replace('"', "\\\"");
-            scene.apply_override(&format!("patches.obj=\"{path}\""))?;
-            Ok((scene, true))
-        }
-        many if many.iter().any(|p| is_obj(p)) => {
-            bail!("give one hair-card OBJ file alone")
-        }
-        files => {
-            let mut scene = Scene::from_str("[head]\ngenerated = false\n", ".")?;
-            scene.hair = vec![HairSpec {
-                files: files.to_vec(),
-                ..HairSpec::default()
-            }];
-            Ok((scene, true))
-        }
-    }
+    Ok(tress_render::session::scene_from_inputs(inputs)?)
 }
 
 /// Apply the command line's size, technique and `--set` options to a scene.

@@ -269,6 +269,11 @@ impl Renderer {
         Ok(())
     }
 
+    /// Bytes of the shadow maps (one depth layer per possible light).
+    pub fn shadow_bytes(&self) -> u64 {
+        self.shadow.bytes()
+    }
+
     /// How `render` reports GPU results (default [`StatsReadback::Wait`]).
     pub fn set_stats_readback(&mut self, mode: StatsReadback) {
         self.stats_readback = mode;

@@ -17,3 +17,20 @@ pub use readback::{
 pub use target::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTargets, TargetFormats, Targets};
 pub(crate) use timer::GpuTimer;
 pub use timer::{PassTiming, Timings};
+
+/// Bytes a texture's texels take (every mip level and array layer; depth formats by their
+/// depth aspect). The driver may pad; this is the logical size.
+pub fn texture_bytes(t: &wgpu::Texture) -> u64 {
+    let format = t.format();
+    let texel = format
+        .block_copy_size(None)
+        .or_else(|| format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)))
+        .unwrap_or(4);
+    let texels: u64 = (0..t.mip_level_count())
+        .map(|m| {
+            let s = t.size().mip_level_size(m, t.dimension());
+            u64::from(s.width) * u64::from(s.height) * u64::from(s.depth_or_array_layers)
+        })
+        .sum();
+    texels * u64::from(texel)
+}

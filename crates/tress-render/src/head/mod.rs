@@ -115,6 +115,11 @@ pub struct HeadGeometry {
 }
 
 impl HeadGeometry {
+    /// Bytes of GPU buffers (vertices and indices).
+    pub fn bytes(&self) -> u64 {
+        self.vertices.size() + self.indices.size()
+    }
+
     /// Validate and upload a mesh.
     pub fn new(ctx: &GpuContext, mesh: &HeadMesh) -> Result<Self, RenderError> {
         mesh.validate()?;

@@ -110,6 +110,11 @@ impl PatchGeometry {
         self.index_count / 3
     }
 
+    /// Bytes of GPU buffers (vertices and sorted indices).
+    pub fn bytes(&self) -> u64 {
+        self.vertices.size() + self.indices.size()
+    }
+
     /// Number of patches (connected components).
     pub fn component_count(&self) -> u32 {
         self.components

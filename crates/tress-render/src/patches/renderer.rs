@@ -300,6 +300,11 @@ impl PatchRenderer {
         Ok(())
     }
 
+    /// Bytes of the four textures on the GPU (with their mip chains).
+    pub fn texture_bytes(&self) -> u64 {
+        self.textures.bytes()
+    }
+
     /// How `render` reports GPU times (default [`StatsReadback::Wait`]).
     pub fn set_stats_readback(&mut self, mode: StatsReadback) {
         self.stats_readback = mode;

@@ -180,6 +180,7 @@ pub struct PatchTextures {
     views: Vec<wgpu::TextureView>,
     pub(crate) sampler: wgpu::Sampler,
     sizes: [[u32; 2]; 4],
+    bytes: u64,
 }
 
 impl PatchTextures {
@@ -253,6 +254,7 @@ impl PatchTextures {
                 views,
                 sampler,
                 sizes,
+                bytes: uploads.iter().map(|u| u.4.len() as u64).sum(),
             }
         })
     }
@@ -265,6 +267,11 @@ impl PatchTextures {
     /// Size in texels of a slot's full-resolution level.
     pub fn size(&self, slot: TextureSlot) -> [u32; 2] {
         self.sizes[slot as usize]
+    }
+
+    /// Bytes of texels on the GPU (all four textures, every mip level).
+    pub fn bytes(&self) -> u64 {
+        self.bytes
     }
 }
 

@@ -31,6 +31,12 @@ pub(crate) struct ShadowTargets {
 }
 
 impl ShadowTargets {
+    /// Bytes of the depth and id maps.
+    pub(crate) fn bytes(&self) -> u64 {
+        crate::gpu::texture_bytes(self.depth_array.texture())
+            + crate::gpu::texture_bytes(self.ids_array.texture())
+    }
+
     pub(crate) fn new(ctx: &GpuContext, size: u32) -> Result<Self, RenderError> {
         if size == 0 || size > ctx.caps.max_texture_2d {
             return Err(RenderError::Invalid(format!(

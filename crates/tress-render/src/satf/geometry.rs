@@ -350,6 +350,26 @@ impl SatfGeometry {
     pub fn atlas_size(&self) -> [u32; 2] {
         self.layout.atlas
     }
+
+    /// Bytes of GPU buffers (sectors, vertices, indices, parameters, HSVs, counters).
+    pub fn buffer_bytes(&self) -> u64 {
+        [
+            &self.sectors,
+            &self.vertices,
+            &self.indices,
+            &self.sector_params,
+            &self.hsvs,
+            &self.counters,
+        ]
+        .iter()
+        .map(|b| b.size())
+        .sum()
+    }
+
+    /// Bytes of the map atlas textures (re/α maps, s-maps, visibility, l-maps).
+    pub fn atlas_bytes(&self) -> u64 {
+        self.atlas.textures.iter().map(crate::gpu::texture_bytes).sum()
+    }
 }
 
 impl Atlas {

@@ -450,6 +450,11 @@ impl SatfRenderer {
         out
     }
 
+    /// Bytes of the shadow maps between clusters (depth and cluster ids per light).
+    pub fn shadow_bytes(&self) -> u64 {
+        self.shadow_targets.bytes()
+    }
+
     /// Render one frame into `targets`, submit it and wait for its statistics.
     pub fn render(
         &mut self,

@@ -15,6 +15,7 @@ pub struct StrandGeometry {
     pub(crate) bind_group: wgpu::BindGroup,
     vertices: wgpu::Buffer,
     vertex_count: u32,
+    bytes: u64,
     mean_segment_length: f32,
     segments: u32,
     strands: u32,
@@ -105,7 +106,7 @@ impl StrandGeometry {
         } else {
             bytemuck::cast_slice(&segments).to_vec()
         };
-        let (bind_group, vertex_buffer) = ctx.scoped("uploading strands", || {
+        let (bind_group, vertex_buffer, segment_bytes) = ctx.scoped("uploading strands", || {
             let v = ctx
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -134,13 +135,15 @@ impl StrandGeometry {
                     },
                 ],
             });
-            (group, v)
+            (group, v, s.size())
         })?;
         let b = asset.bounds();
+        let bytes = vertex_buffer.size() + segment_bytes;
         Ok(StrandGeometry {
             bind_group,
             vertices: vertex_buffer,
             vertex_count: vertices.len() as u32,
+            bytes,
             mean_segment_length: mean_segment_length(asset),
             segments: segment_count,
             strands: asset.strand_count() as u32,
@@ -181,6 +184,12 @@ impl StrandGeometry {
     }
 
     /// Number of vertices.
+    /// Bytes of GPU buffers (vertices and segments).
+    pub fn bytes(&self) -> u64 {
+        self.bytes
+    }
+
+    /// Vertices uploaded.
     pub fn vertex_count(&self) -> u32 {
         self.vertex_count
     }

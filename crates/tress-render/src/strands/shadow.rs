@@ -158,6 +158,13 @@ impl ShadowMap {
         self.size
     }
 
+    /// Bytes of the depth maps (one layer per possible light).
+    pub fn bytes(&self) -> u64 {
+        self.layers
+            .first()
+            .map_or(0, |v| crate::gpu::texture_bytes(v.texture()))
+    }
+
     /// The per-light depth views (bound in the lighting group).
     pub(crate) fn layer_views(&self) -> &[wgpu::TextureView] {
         &self.layers

@@ -1,0 +1,568 @@
+//! One scene, drawn with any of the five techniques: what the benchmarks and the viewer render
+//! through, so that they have no rendering logic of their own.
+//!
+//! A [`Session`] loads a [`Scene`] once (hair, head, lights), uploads what the current technique
+//! needs on first use and keeps it while other techniques are tried: the strand renderer
+//! ([`Renderer`]) draws `strands`, `volume` and `hybrid`, [`PatchRenderer`] draws `patches` and
+//! [`SatfRenderer`] draws `satf`. Settings change by the scene's dotted names
+//! ([`Session::set`]), and every frame reports its per-pass GPU times and a [`Memory`] breakdown.
+//!
+//! ```no_run
+//! use tress_render::session::{Session, SessionOptions, scene_from_inputs};
+//! use tress_render::*;
+//! # fn main() -> Result<(), RenderError> {
+//! let ctx = GpuContext::headless()?;
+//! let (scene, auto_frame) = scene_from_inputs(&[])?; // the built-in demo
+//! let options = SessionOptions { auto_frame, ..Default::default() };
+//! let mut session = Session::new(&ctx, TargetFormats::default(), scene, options)?;
+//! session.set_technique(&ctx, "volume")?;
+//! let targets = OffscreenTargets::new(&ctx, [640, 360], COLOR_FORMAT)?;
+//! let camera = session.camera([640, 360]);
+//! let frame = session.render(&ctx, &targets.targets(), &camera, None)?;
+//! println!("{} MiB", frame.memory.total() >> 20);
+//! # Ok(()) }
+//! ```
+
+mod inputs;
+mod memory;
+
+use std::time::Instant;
+
+use glam::Vec3;
+use tress_scene::Scene;
+
+pub use inputs::{DEMO_SCENE, scene_from_inputs};
+pub use memory::Memory;
+
+use crate::patches::scene::{PatchScene, load_patches, patch_settings};
+use crate::satf::scene::{SatfScene, load_clusters, satf_settings};
+use crate::scene_setup::{PreparedScene, frame_bounds};
+use crate::{
+    Camera, DirectionalLight, FrameInputs, FrameStats, GpuContext, HeadGeometry, PatchFrameInputs,
+    PatchFrameStats, PatchGeometry, PatchRenderer, RenderError, Renderer, SatfDatabase,
+    SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, StatsReadback, StrandGeometry,
+    TargetFormats, Targets, Technique, Timings,
+};
+
+/// The techniques a session draws, in the order the viewer cycles them.
+pub const TECHNIQUES: [&str; 5] = ["strands", "volume", "hybrid", "patches", "satf"];
+
+/// Constant ambient light of every technique's shading (linear RGB per channel), as in
+/// `tress render`.
+pub const AMBIENT: f32 = 0.08;
+
+/// Finds the SATF database for a scene's `[satf]` settings (the CLI's loads the file or its
+/// cache, baking it on first use). The error is one line.
+pub type DatabaseLoader = Box<dyn FnMut(&SatfScene) -> Result<tress_satf::Database, String>>;
+
+/// How a [`Session`] is built.
+#[derive(Default)]
+pub struct SessionOptions {
+    /// Frame the camera on the loaded hair or cards (inputs without a camera of their own).
+    pub auto_frame: bool,
+    /// Dotted `key=value` overrides applied to the scene before loading, and again after
+    /// framing (so they win over it).
+    pub overrides: Vec<String>,
+    /// The SATF database source; without one the `satf` technique reports that it needs one.
+    pub satf_database: Option<DatabaseLoader>,
+    /// How GPU statistics are read back (default wait: each frame reports its own).
+    pub readback: StatsReadback,
+}
+
+impl std::fmt::Debug for SessionOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SessionOptions")
+            .field("auto_frame", &self.auto_frame)
+            .field("overrides", &self.overrides)
+            .field("satf_database", &self.satf_database.is_some())
+            .field("readback", &self.readback)
+            .finish()
+    }
+}
+
+/// What one technique reported about a frame.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FrameDetail {
+    /// `strands`, `volume` or `hybrid`.
+    Strands(FrameStats),
+    /// `patches`.
+    Patches(PatchFrameStats),
+    /// `satf`.
+    Satf(SatfFrameStats),
+}
+
+/// What [`Session::render`] returns.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SessionFrame {
+    /// The technique that drew the frame.
+    pub technique: &'static str,
+    /// Target size in pixels.
+    pub size: [u32; 2],
+    /// Per-pass GPU times (`None` until the first results arrive with deferred readback).
+    pub timings: Option<Timings>,
+    /// CPU wall time of the `render` call (encoding, submission and, with waiting readback, the
+    /// GPU's work), milliseconds.
+    pub wall_ms: f64,
+    /// GPU memory the technique holds this frame.
+    pub memory: Memory,
+    /// The technique's own statistics.
+    pub detail: FrameDetail,
+}
+
+struct StrandPath {
+    renderer: Renderer,
+    hair: Option<StrandGeometry>,
+}
+
+struct PatchPath {
+    renderer: PatchRenderer,
+    geometry: PatchGeometry,
+    scene: PatchScene,
+}
+
+struct SatfPath {
+    renderer: SatfRenderer,
+    geometry: SatfGeometry,
+    database: SatfDatabase,
+    settings: SatfScene,
+}
+
+/// A scene loaded for rendering with any technique (see the module docs).
+pub struct Session {
+    formats: TargetFormats,
+    scene: Scene,
+    prepared: PreparedScene,
+    head: Option<HeadGeometry>,
+    technique: &'static str,
+    strands: Option<StrandPath>,
+    patches: Option<PatchPath>,
+    satf: Option<SatfPath>,
+    loader: Option<DatabaseLoader>,
+    readback: StatsReadback,
+}
+
+impl std::fmt::Debug for Session {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Session")
+            .field("technique", &self.technique)
+            .field("strands", &self.strands.is_some())
+            .field("patches", &self.patches.is_some())
+            .field("satf", &self.satf.is_some())
+            .finish_non_exhaustive()
+    }
+}
+
+fn invalid(e: impl std::fmt::Display) -> RenderError {
+    RenderError::Invalid(e.to_string())
+}
+
+/// The name in [`TECHNIQUES`] of a technique, or an error listing them.
+pub fn technique_name(name: &str) -> Result<&'static str, RenderError> {
+    TECHNIQUES
+        .iter()
+        .find(|t| **t == name)
+        .copied()
+        .ok_or_else(|| {
+            invalid(format!(
+                "unknown technique `{name}` (available: {})",
+                TECHNIQUES.join(", ")
+            ))
+        })
+}
+
+/// Load a scene's hair, head and settings, framing the camera on the hair when asked.
+fn load_scene(
+    mut scene: Scene,
+    auto_frame: bool,
+    overrides: &[String],
+) -> Result<(Scene, PreparedScene), RenderError> {
+    scene.apply_overrides(overrides).map_err(invalid)?;
+    technique_name(&scene.technique)?;
+    let prepared = PreparedScene::load(&scene)?;
+    if let (true, Some(h)) = (auto_frame, &prepared.hair) {
+        let b = h.bounds();
+        frame_bounds(&mut scene, b.min, b.max);
+        scene.apply_overrides(overrides).map_err(invalid)?;
+    }
+    Ok((scene, prepared))
+}
+
+impl Session {
+    /// Load `scene` (see [`SessionOptions`]) and upload what its technique needs.
+    pub fn new(
+        ctx: &GpuContext,
+        formats: TargetFormats,
+        scene: Scene,
+        options: SessionOptions,
+    ) -> Result<Session, RenderError> {
+        let (scene, prepared) = load_scene(scene, options.auto_frame, &options.overrides)?;
+        let head = prepared
+            .head
+            .as_ref()
+            .map(|m| HeadGeometry::new(ctx, m))
+            .transpose()?;
+        let technique = technique_name(&scene.technique)?;
+        let mut session = Session {
+            formats,
+            scene,
+            prepared,
+            head,
+            technique,
+            strands: None,
+            patches: None,
+            satf: None,
+            loader: options.satf_database,
+            readback: options.readback,
+        };
+        session.prepare(ctx)?;
+        // Cards without hair (an OBJ) are framed on the cards.
+        if let (true, None, Some(p)) = (options.auto_frame, &session.prepared.hair, &session.patches)
+            && let Some(b) = p.scene.mesh.bounds()
+        {
+            frame_bounds(&mut session.scene, b.min, b.max);
+            session
+                .scene
+                .apply_overrides(&options.overrides)
+                .map_err(invalid)?;
+        }
+        Ok(session)
+    }
+
+    /// The scene as loaded and changed by [`Session::set`].
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The loaded hair, head, lights and settings.
+    pub fn prepared(&self) -> &PreparedScene {
+        &self.prepared
+    }
+
+    /// The current technique (one of [`TECHNIQUES`]).
+    pub fn technique(&self) -> &'static str {
+        self.technique
+    }
+
+    /// The scene's camera for a target of `size` pixels.
+    pub fn camera(&self, size: [u32; 2]) -> Camera {
+        PreparedScene::camera(&self.scene, size)
+    }
+
+    /// The scene's lights.
+    pub fn lights(&self) -> &[DirectionalLight] {
+        &self.prepared.lights
+    }
+
+    /// Switch technique, uploading what it needs on first use. On error the technique is
+    /// unchanged.
+    pub fn set_technique(&mut self, ctx: &GpuContext, name: &str) -> Result<(), RenderError> {
+        let name = technique_name(name)?;
+        let old = self.technique;
+        self.technique = name;
+        if let Err(e) = self.prepare(ctx) {
+            self.technique = old;
+            return Err(e);
+        }
+        self.scene.technique = name.to_string();
+        Ok(())
+    }
+
+    /// Change a setting by its dotted scene name (`strands.k=8`, `volume.steps=128`,
+    /// `light.0.intensity=2`, `technique="volume"`, ...). Technique settings apply to the live
+    /// renderers; patch, SATF, hair and head settings rebuild what depends on them. On error
+    /// nothing changes.
+    pub fn set(&mut self, ctx: &GpuContext, key_value: &str) -> Result<(), RenderError> {
+        let mut scene = self.scene.clone();
+        scene.apply_override(key_value).map_err(invalid)?;
+        let key = key_value.split('=').next().unwrap_or("").trim();
+        let root = key.split('.').next().unwrap_or("");
+        match root {
+            "camera" | "output" => {
+                self.scene = scene;
+                Ok(())
+            }
+            "technique" => {
+                let t = scene.technique.clone();
+                self.set_technique(ctx, &t)
+            }
+            _ if is_light_key(key) => {
+                let prepared = PreparedScene::load_settings(&scene)?;
+                if key.contains(".material.") {
+                    // SATF reads the hair colour into its lighting settings.
+                    self.satf = None;
+                }
+                if let Some(s) = &mut self.strands {
+                    apply_strand_settings(ctx, &mut s.renderer, &prepared)?;
+                }
+                self.prepared.lights = prepared.lights;
+                self.prepared.material = prepared.material;
+                self.prepared.background = prepared.background;
+                self.prepared.strands = prepared.strands;
+                self.prepared.volume = prepared.volume;
+                self.prepared.hybrid = prepared.hybrid;
+                self.scene = scene;
+                Ok(())
+            }
+            "patches" => {
+                let patches = self.patches.take();
+                let old = std::mem::replace(&mut self.scene, scene);
+                if self.technique == "patches"
+                    && let Err(e) = self.prepare(ctx)
+                {
+                    self.scene = old;
+                    self.patches = patches;
+                    return Err(e);
+                }
+                Ok(())
+            }
+            "satf" => {
+                let satf = self.satf.take();
+                let old = std::mem::replace(&mut self.scene, scene);
+                if self.technique == "satf"
+                    && let Err(e) = self.prepare(ctx)
+                {
+                    self.scene = old;
+                    self.satf = satf;
+                    return Err(e);
+                }
+                Ok(())
+            }
+            _ => {
+                // Hair, head, materials: load everything again.
+                let (scene, prepared) = load_scene(scene, false, &[])?;
+                let head = prepared
+                    .head
+                    .as_ref()
+                    .map(|m| HeadGeometry::new(ctx, m))
+                    .transpose()?;
+                let old = (
+                    std::mem::replace(&mut self.scene, scene),
+                    std::mem::replace(&mut self.prepared, prepared),
+                    std::mem::replace(&mut self.head, head),
+                    self.strands.take(),
+                    self.patches.take(),
+                    self.satf.take(),
+                );
+                if let Err(e) = self.prepare(ctx) {
+                    (
+                        self.scene,
+                        self.prepared,
+                        self.head,
+                        self.strands,
+                        self.patches,
+                        self.satf,
+                    ) = old;
+                    return Err(e);
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// Upload what the current technique needs, if not yet there.
+    fn prepare(&mut self, ctx: &GpuContext) -> Result<(), RenderError> {
+        match self.technique {
+            "patches" if self.patches.is_none() => {
+                let scene = load_patches(&self.scene, &self.prepared)?;
+                let settings = patch_settings(&self.scene)?;
+                let mut renderer = if scene.textures_from_files {
+                    PatchRenderer::with_textures(
+                        ctx,
+                        self.formats,
+                        settings,
+                        scene.textures.clone(),
+                    )?
+                } else {
+                    PatchRenderer::new(ctx, self.formats, settings)?
+                };
+                renderer.set_stats_readback(self.readback);
+                let geometry = renderer.upload_patches(ctx, &scene.mesh, scene.sort_center)?;
+                self.patches = Some(PatchPath {
+                    renderer,
+                    geometry,
+                    scene,
+                });
+            }
+            "satf" if self.satf.is_none() => {
+                let settings = satf_settings(&self.scene)?;
+                let loader = self.loader.as_mut().ok_or_else(|| {
+                    invalid("the satf technique needs an HRIR database (none was given)")
+                })?;
+                let db = loader(&settings).map_err(RenderError::Invalid)?;
+                let volume = load_clusters(&self.scene, &settings, self.prepared.hair.as_ref())?;
+                let database = SatfDatabase::new(ctx, &db)?;
+                let geometry = SatfGeometry::new(ctx, &volume, &database, &settings.settings)?;
+                let renderer = SatfRenderer::new(ctx, self.formats, settings.settings)?;
+                self.satf = Some(SatfPath {
+                    renderer,
+                    geometry,
+                    database,
+                    settings,
+                });
+            }
+            "strands" | "volume" | "hybrid" => {
+                if self.strands.is_none() {
+                    let mut renderer =
+                        Renderer::new(ctx, self.formats, self.prepared.strands.clone())?;
+                    apply_strand_settings(ctx, &mut renderer, &self.prepared)?;
+                    renderer.set_stats_readback(self.readback);
+                    let hair = self
+                        .prepared
+                        .hair
+                        .as_ref()
+                        .map(|h| renderer.upload_hair(ctx, h))
+                        .transpose()?;
+                    self.strands = Some(StrandPath { renderer, hair });
+                }
+                if let Some(s) = &mut self.strands {
+                    s.renderer
+                        .set_technique(self.technique.parse::<Technique>()?);
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// The SATF settings in use, once the `satf` technique has been prepared.
+    pub fn satf_settings(&self) -> Option<&SatfScene> {
+        self.satf.as_ref().map(|s| &s.settings)
+    }
+
+    /// How GPU statistics are read back from now on.
+    pub fn set_stats_readback(&mut self, mode: StatsReadback) {
+        self.readback = mode;
+        if let Some(s) = &mut self.strands {
+            s.renderer.set_stats_readback(mode);
+        }
+        if let Some(p) = &mut self.patches {
+            p.renderer.set_stats_readback(mode);
+        }
+    }
+
+    /// Render one frame with the current technique into `targets` (cleared to the scene's
+    /// background) from `camera`, with `lights` or the scene's.
+    pub fn render(
+        &mut self,
+        ctx: &GpuContext,
+        targets: &Targets<'_>,
+        camera: &Camera,
+        lights: Option<&[DirectionalLight]>,
+    ) -> Result<SessionFrame, RenderError> {
+        self.prepare(ctx)?;
+        let lights = lights.unwrap_or(&self.prepared.lights);
+        let bg = self.prepared.background;
+        let clear = Some(wgpu::Color {
+            r: bg.x.into(),
+            g: bg.y.into(),
+            b: bg.z.into(),
+            a: 1.0,
+        });
+        let ambient = Vec3::splat(AMBIENT);
+        let head = self.head.as_ref();
+        let head_bytes = head.map_or(0, HeadGeometry::bytes);
+        let start = Instant::now();
+        let (timings, memory, detail) = match self.technique {
+            "patches" => {
+                let p = self.patches.as_mut().ok_or_else(|| invalid("no patches"))?;
+                let stats = p.renderer.render(
+                    ctx,
+                    targets,
+                    &PatchFrameInputs {
+                        camera: *camera,
+                        lights,
+                        ambient,
+                        head_color: self.prepared.material.head_color,
+                        patches: Some(&p.geometry),
+                        head,
+                        clear,
+                    },
+                )?;
+                let memory = Memory {
+                    geometry: p.geometry.bytes() + head_bytes,
+                    textures: p.renderer.texture_bytes(),
+                    ..Memory::default()
+                };
+                (stats.timings.clone(), memory, FrameDetail::Patches(stats))
+            }
+            "satf" => {
+                let s = self.satf.as_mut().ok_or_else(|| invalid("no SATF"))?;
+                let stats = s.renderer.render(
+                    ctx,
+                    targets,
+                    &SatfFrameInputs {
+                        camera: *camera,
+                        lights,
+                        ambient,
+                        head_color: self.prepared.material.head_color,
+                        clusters: Some(&s.geometry),
+                        database: &s.database,
+                        head,
+                        clear,
+                    },
+                )?;
+                let memory = Memory {
+                    geometry: s.geometry.buffer_bytes() + head_bytes,
+                    textures: s.geometry.atlas_bytes(),
+                    shadow_maps: s.renderer.shadow_bytes(),
+                    database: s.database.bytes(),
+                    ..Memory::default()
+                };
+                (Some(stats.timings.clone()), memory, FrameDetail::Satf(stats))
+            }
+            _ => {
+                let s = self.strands.as_mut().ok_or_else(|| invalid("no strands"))?;
+                let stats = s.renderer.render(
+                    ctx,
+                    targets,
+                    &FrameInputs {
+                        camera: *camera,
+                        lights,
+                        ambient,
+                        material: self.prepared.material,
+                        hair: s.hair.as_ref(),
+                        head,
+                        clear,
+                    },
+                )?;
+                let memory = Memory {
+                    geometry: s.hair.as_ref().map_or(0, StrandGeometry::bytes) + head_bytes,
+                    ppll: stats.ppll_bytes,
+                    volumes: stats.volume.map_or(0, |v| v.bytes),
+                    shadow_maps: s.renderer.shadow_bytes(),
+                    ..Memory::default()
+                };
+                let timings = stats.gpu.as_ref().map(|g| g.timings.clone());
+                (timings, memory, FrameDetail::Strands(stats))
+            }
+        };
+        Ok(SessionFrame {
+            technique: self.technique,
+            size: [camera.viewport[0], camera.viewport[1]],
+            timings,
+            wall_ms: start.elapsed().as_secs_f64() * 1e3,
+            memory,
+            detail,
+        })
+    }
+}
+
+/// Whether a dotted key only changes settings, lights or materials (no reload).
+fn is_light_key(key: &str) -> bool {
+    let root = key.split('.').next().unwrap_or("");
+    matches!(
+        root,
+        "strands" | "volume" | "hybrid" | "light" | "lights" | "background"
+    ) || (root == "hair" && key.contains(".material."))
+}
+
+/// Push a prepared scene's strand, volume and hybrid settings into a renderer.
+fn apply_strand_settings(
+    ctx: &GpuContext,
+    renderer: &mut Renderer,
+    prepared: &PreparedScene,
+) -> Result<(), RenderError> {
+    renderer.set_settings(ctx, prepared.strands.clone())?;
+    renderer.set_volume_settings(ctx, prepared.volume.clone())?;
+    renderer.set_hybrid_settings(prepared.hybrid.clone())
+}
