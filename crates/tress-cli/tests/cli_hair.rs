@@ -1,21 +1,12 @@
 //! End-to-end tests of the hair subcommands (`info`, `generate`, `convert`) and of the CLI's
 //! error contract: one line on stderr naming the file and the problem, exit status 2.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn tress(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tress"))
-        .args(args)
-        .output()
-        .expect("run tress")
-}
+use std::path::Path;
+use std::process::Output;
 
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("tress-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
+use common::{tmp, tress};
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()

@@ -2,36 +2,17 @@
 //! an OBJ of cards, AO baked into it, the OBJ rendered through the real GPU path (lavapipe in
 //! CI). The render tests fail without an adapter unless TRESS_SKIP_GPU_TESTS=1.
 
+mod common;
+
 use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::Output;
 
+use common::{assert_gpu_success, skip_gpu, tmp, tress};
 use tress_hair::patches::PatchMesh;
-
-fn tress(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tress"))
-        .args(args)
-        .output()
-        .expect("run tress")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("tress-patches-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn skip_gpu() -> bool {
-    std::env::var("TRESS_SKIP_GPU_TESTS").is_ok_and(|v| v == "1")
-}
 
 #[track_caller]
 fn ok(out: &Output) -> serde_json::Value {
-    assert!(
-        out.status.success(),
-        "tress failed (GPU commands need a Vulkan adapter: install mesa-vulkan-drivers for \
-         lavapipe, or set TRESS_SKIP_GPU_TESTS=1 to skip on purpose): {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_gpu_success(out);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(stdout.lines().count(), 1, "one JSON object: {stdout}");
     serde_json::from_str(&stdout).expect("JSON")

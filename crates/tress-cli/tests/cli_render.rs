@@ -1,34 +1,9 @@
 //! `tress render` end to end on a tiny generated asset, through the real GPU path (lavapipe in
 //! CI). Like every GPU test here it fails without an adapter unless TRESS_SKIP_GPU_TESTS=1.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn tress(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tress"))
-        .args(args)
-        .output()
-        .expect("run tress")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("tress-render-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn skip_gpu() -> bool {
-    std::env::var("TRESS_SKIP_GPU_TESTS").is_ok_and(|v| v == "1")
-}
-
-fn expect_rendered(out: &Output) {
-    assert!(
-        out.status.success(),
-        "tress render failed (GPU tests need a Vulkan adapter: install mesa-vulkan-drivers for \
-         lavapipe, or set TRESS_SKIP_GPU_TESTS=1 to skip on purpose): {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
+use common::{assert_gpu_success, skip_gpu, tmp, tress};
 
 #[test]
 fn render_hair_file_writes_png_and_one_json_object() {
@@ -61,7 +36,7 @@ fn render_hair_file_writes_png_and_one_json_object() {
         "strands.k=4",
         "--json",
     ]);
-    expect_rendered(&out);
+    assert_gpu_success(&out);
     let v: serde_json::Value =
         serde_json::from_slice(&out.stdout).expect("exactly one JSON object");
     assert_eq!(v["technique"], "strands");

@@ -1,21 +1,12 @@
 //! `tress satf-bake`: bakes a small database with a report, checks it, and rejects corrupt or
 //! truncated files with one clear line (no GPU needed).
 
+mod common;
+
 use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn tress(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tress"))
-        .args(args)
-        .output()
-        .expect("run tress")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("tress-satf-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
+use common::{skip_gpu, tmp, tress};
 
 fn one_error_line(out: &Output) -> String {
     assert_eq!(out.status.code(), Some(2), "expected failure: {out:?}");
@@ -116,10 +107,6 @@ fn bad_settings_are_one_line_errors() {
     ]));
     assert!(err.contains("pixels"), "{err}");
     assert!(!db.exists());
-}
-
-fn skip_gpu() -> bool {
-    std::env::var("TRESS_SKIP_GPU_TESTS").is_ok_and(|v| v == "1")
 }
 
 /// A tiny SATF scene in its own folder: generated clusters, a database `db.satfdb` beside it

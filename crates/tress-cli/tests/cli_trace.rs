@@ -1,21 +1,12 @@
 //! `tress reference` and `tress compare-images` end to end on tiny scenes (CPU only: no GPU
 //! needed).
 
+mod common;
+
 use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn tress(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tress"))
-        .args(args)
-        .output()
-        .expect("run tress")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("tress-trace-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
+use common::{tmp, tress};
 
 fn ok(out: &Output) -> String {
     assert!(

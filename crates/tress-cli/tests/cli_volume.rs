@@ -2,34 +2,11 @@
 //! to end on a tiny generated asset through the real GPU path (lavapipe in CI). Like every GPU
 //! test here they fail without an adapter unless TRESS_SKIP_GPU_TESTS=1.
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn tress(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tress"))
-        .args(args)
-        .output()
-        .expect("run tress")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("tress-volume-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn skip_gpu() -> bool {
-    std::env::var("TRESS_SKIP_GPU_TESTS").is_ok_and(|v| v == "1")
-}
-
-fn ok(out: &Output) {
-    assert!(
-        out.status.success(),
-        "tress failed (GPU tests need a Vulkan adapter: install mesa-vulkan-drivers for \
-         lavapipe, or set TRESS_SKIP_GPU_TESTS=1 to skip on purpose): {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
+use common::{assert_gpu_success, skip_gpu, tmp, tress};
 
 /// A small straight-hair asset, generated once per test binary run.
 fn asset() -> PathBuf {
@@ -83,7 +60,7 @@ fn volume_and_hybrid_render_and_report_the_volume() {
     args.extend(SMALL);
     args.extend(["--technique", "volume", "--json"]);
     let out = tress(&args);
-    ok(&out);
+    assert_gpu_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
     assert_eq!(v["technique"], "volume");
     assert_eq!(v["volume"]["resolution"], 32);
@@ -118,7 +95,7 @@ fn volume_and_hybrid_render_and_report_the_volume() {
     args.extend(SMALL);
     args.extend(["--technique", "hybrid", "--set", "hybrid.lod=0.5", "--json"]);
     let out = tress(&args);
-    ok(&out);
+    assert_gpu_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
     assert_eq!(v["technique"], "hybrid");
     assert!(v["ppll"]["used"].as_u64().unwrap() > 0 && v["volume"]["resolution"] == 32);
@@ -178,7 +155,7 @@ fn a_swaying_sequence_is_voxelized_every_frame() {
         "--json",
     ]);
     let out = tress(&args);
-    ok(&out);
+    assert_gpu_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
     let frames = v["frames"].as_array().expect("frames");
     assert_eq!(frames.len(), 3);
@@ -218,7 +195,7 @@ fn compare_splits_strands_and_volume_and_sweeps_distances() {
     args.extend(SMALL);
     args.extend(["--repeat", "1", "--json"]);
     let out = tress(&args);
-    ok(&out);
+    assert_gpu_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
     let row = &v["rows"][0];
     assert!(row["coverage_pct"].as_f64().unwrap() > 1.0, "{row}");
@@ -239,7 +216,7 @@ fn compare_splits_strands_and_volume_and_sweeps_distances() {
         args.extend(SIZE);
         args.extend(SMALL);
         args.extend(["--technique", technique]);
-        ok(&tress(&args));
+        assert_gpu_success(&tress(&args));
     }
     let (img, s, vol) = (image(&split), image(&strands), image(&volume));
     for y in 0..64 {
@@ -273,7 +250,7 @@ fn compare_splits_strands_and_volume_and_sweeps_distances() {
         "--csv",
         csv.to_str().unwrap(),
     ]);
-    ok(&tress(&args));
+    assert_gpu_success(&tress(&args));
     let text = std::fs::read_to_string(&csv).unwrap();
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines.len(), 3, "{text}");

@@ -5,8 +5,6 @@
 
 mod common;
 
-use std::path::PathBuf;
-
 use glam::Vec3;
 use tress_render::{
     COLOR_FORMAT, Camera, DirectionalLight, FrameInputs, HeadGeometry, HeadMesh, Material,
@@ -66,44 +64,6 @@ fn render(settings: StrandSettings, lights: &[DirectionalLight]) -> image::RgbIm
     image::DynamicImage::ImageRgba8(img).to_rgb8()
 }
 
-fn check(name: &str, image: &image::RgbImage) {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/golden")
-        .join(format!("{name}.png"));
-    if std::env::var("TRESS_BLESS").is_ok_and(|v| v == "1") {
-        image.save(&path).expect("write golden");
-        eprintln!("blessed {}", path.display());
-        return;
-    }
-    let golden = image::open(&path)
-        .unwrap_or_else(|e| panic!("{}: {e}; render it with TRESS_BLESS=1", path.display()))
-        .to_rgb8();
-    assert_eq!(golden.dimensions(), image.dimensions(), "{name}: size");
-    let flip = nv_flip::flip(
-        nv_flip::FlipImageRgb8::with_data(golden.width(), golden.height(), &golden),
-        nv_flip::FlipImageRgb8::with_data(image.width(), image.height(), image),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    let mean = nv_flip::FlipPool::from_image(&flip).mean();
-    if mean > MAX_MEAN_FLIP {
-        let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("golden");
-        std::fs::create_dir_all(&dir).expect("tmp dir");
-        image
-            .save(dir.join(format!("{name}.png")))
-            .expect("write render");
-        let map = flip.apply_color_lut(&nv_flip::magma_lut());
-        image::RgbImage::from_raw(map.width(), map.height(), map.to_vec())
-            .expect("flip map")
-            .save(dir.join(format!("{name}.flip.png")))
-            .expect("write flip map");
-        panic!(
-            "{name}: mean FLIP {mean:.4} > {MAX_MEAN_FLIP}; see {}",
-            dir.display()
-        );
-    }
-    eprintln!("{name}: mean FLIP {mean:.5}");
-}
-
 fn key_light() -> DirectionalLight {
     DirectionalLight {
         direction: Vec3::new(0.6, -0.6, -0.5),
@@ -118,7 +78,7 @@ fn kajiya_kay_with_adsm_shadows() {
         return;
     }
     let img = render(settings(), &[key_light()]);
-    check("strands_kajiya_kay", &img);
+    common::check_golden("strands_kajiya_kay", &img, MAX_MEAN_FLIP);
 }
 
 #[test]
@@ -137,7 +97,7 @@ fn scheuermann_two_lights() {
         intensity: 1.5,
     };
     let img = render(settings, &[key_light(), rim]);
-    check("strands_scheuermann", &img);
+    common::check_golden("strands_scheuermann", &img, MAX_MEAN_FLIP);
 }
 
 #[test]
@@ -153,5 +113,5 @@ fn aliased_without_coverage_small_k_no_shadows() {
         ..settings()
     };
     let img = render(settings, &[key_light()]);
-    check("strands_aliased_k4", &img);
+    common::check_golden("strands_aliased_k4", &img, MAX_MEAN_FLIP);
 }

@@ -7,8 +7,6 @@
 
 mod common;
 
-use std::path::PathBuf;
-
 use glam::Vec3;
 use tress_hair::generate::Head;
 use tress_hair::patches::{
@@ -134,46 +132,14 @@ fn render(
     image::DynamicImage::ImageRgba8(img).to_rgb8()
 }
 
-fn flip(a: &image::RgbImage, b: &image::RgbImage) -> (f32, nv_flip::FlipImageFloat) {
+/// Mean FLIP error between two renders.
+fn mean_flip(a: &image::RgbImage, b: &image::RgbImage) -> f32 {
     let f = nv_flip::flip(
         nv_flip::FlipImageRgb8::with_data(a.width(), a.height(), a),
         nv_flip::FlipImageRgb8::with_data(b.width(), b.height(), b),
         nv_flip::DEFAULT_PIXELS_PER_DEGREE,
     );
-    (nv_flip::FlipPool::from_image(&f).mean(), f)
-}
-
-fn check(name: &str, image: &image::RgbImage) {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/golden")
-        .join(format!("{name}.png"));
-    if std::env::var("TRESS_BLESS").is_ok_and(|v| v == "1") {
-        image.save(&path).expect("write golden");
-        eprintln!("blessed {}", path.display());
-        return;
-    }
-    let golden = image::open(&path)
-        .unwrap_or_else(|e| panic!("{}: {e}; render it with TRESS_BLESS=1", path.display()))
-        .to_rgb8();
-    assert_eq!(golden.dimensions(), image.dimensions(), "{name}: size");
-    let (mean, map) = flip(&golden, image);
-    if mean > MAX_MEAN_FLIP {
-        let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("golden");
-        std::fs::create_dir_all(&dir).expect("tmp dir");
-        image
-            .save(dir.join(format!("{name}.png")))
-            .expect("write render");
-        let lut = map.apply_color_lut(&nv_flip::magma_lut());
-        image::RgbImage::from_raw(lut.width(), lut.height(), lut.to_vec())
-            .expect("flip map")
-            .save(dir.join(format!("{name}.flip.png")))
-            .expect("write flip map");
-        panic!(
-            "{name}: mean FLIP {mean:.4} > {MAX_MEAN_FLIP}; see {}",
-            dir.display()
-        );
-    }
-    eprintln!("{name}: mean FLIP {mean:.5}");
+    nv_flip::FlipPool::from_image(&f).mean()
 }
 
 /// Fraction of pixels that differ from the background by more than a few levels.
@@ -195,7 +161,7 @@ fn generated_patch_head_four_pass() {
         return;
     }
     let img = render(RenderScheme::FourPass, &generated(), HEAD_EYE, HEAD_TARGET);
-    check("patches_generated_4pass", &img);
+    common::check_golden("patches_generated_4pass", &img, MAX_MEAN_FLIP);
     assert!(coverage(&img) > 0.2, "the head and hair fill the view");
 }
 
@@ -207,7 +173,7 @@ fn both_schemes_resolve_the_same_image() {
     let scene = generated();
     let four = render(RenderScheme::FourPass, &scene, HEAD_EYE, HEAD_TARGET);
     let three = render(RenderScheme::ThreePass, &scene, HEAD_EYE, HEAD_TARGET);
-    let (mean, _) = flip(&four, &three);
+    let mean = mean_flip(&four, &three);
     assert!(mean < 0.01, "4-pass and 3-pass differ: mean FLIP {mean}");
 }
 
@@ -222,6 +188,6 @@ fn strands_as_cards_three_pass() {
         Vec3::new(2.6, 1.2, 4.4),
         Vec3::new(0.0, -0.45, 0.0),
     );
-    check("patches_cards_3pass", &img);
+    common::check_golden("patches_cards_3pass", &img, MAX_MEAN_FLIP);
     assert!(coverage(&img) > 0.1, "the cards fill part of the view");
 }

@@ -6,7 +6,6 @@
 
 mod common;
 
-use std::path::PathBuf;
 use std::sync::OnceLock;
 
 use glam::Vec3;
@@ -123,44 +122,6 @@ fn render(settings: SatfSettings, volume: &HairVolume) -> (image::RgbImage, Satf
     (image::DynamicImage::ImageRgba8(img).to_rgb8(), stats)
 }
 
-fn check(name: &str, image: &image::RgbImage) {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/golden")
-        .join(format!("{name}.png"));
-    if std::env::var("TRESS_BLESS").is_ok_and(|v| v == "1") {
-        image.save(&path).expect("write golden");
-        eprintln!("blessed {}", path.display());
-        return;
-    }
-    let golden = image::open(&path)
-        .unwrap_or_else(|e| panic!("{}: {e}; render it with TRESS_BLESS=1", path.display()))
-        .to_rgb8();
-    assert_eq!(golden.dimensions(), image.dimensions(), "{name}: size");
-    let flip = nv_flip::flip(
-        nv_flip::FlipImageRgb8::with_data(golden.width(), golden.height(), &golden),
-        nv_flip::FlipImageRgb8::with_data(image.width(), image.height(), image),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    let mean = nv_flip::FlipPool::from_image(&flip).mean();
-    if mean > MAX_MEAN_FLIP {
-        let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("golden");
-        std::fs::create_dir_all(&dir).expect("tmp dir");
-        image
-            .save(dir.join(format!("{name}.png")))
-            .expect("write render");
-        let map = flip.apply_color_lut(&nv_flip::magma_lut());
-        image::RgbImage::from_raw(map.width(), map.height(), map.to_vec())
-            .expect("flip map")
-            .save(dir.join(format!("{name}.flip.png")))
-            .expect("write flip map");
-        panic!(
-            "{name}: mean FLIP {mean:.4} > {MAX_MEAN_FLIP}; see {}",
-            dir.display()
-        );
-    }
-    eprintln!("{name}: mean FLIP {mean:.5}");
-}
-
 #[test]
 fn generated_clusters_on_a_head() {
     if common::gpu().is_none() {
@@ -171,7 +132,7 @@ fn generated_clusters_on_a_head() {
     assert_eq!(stats.clusters, 12);
     assert_eq!(stats.hsvs, 12 * 8 * 3 * 6);
     assert_eq!(stats.uniform_hsvs + stats.interpolated_hsvs, stats.hsvs);
-    check("satf_generated", &img);
+    common::check_golden("satf_generated", &img, MAX_MEAN_FLIP);
 }
 
 /// Wall-clock stage timing submits every stage alone: the same image, every stage timed.
@@ -193,7 +154,7 @@ fn wall_clock_stage_timing_renders_the_same_image() {
         }
         other => panic!("wall-clock timings are always available: {other:?}"),
     }
-    check("satf_generated", &img);
+    common::check_golden("satf_generated", &img, MAX_MEAN_FLIP);
 }
 
 /// Clusters fitted to a generated straight style (the path that lets SATF render any strand
@@ -224,5 +185,5 @@ fn fitted_clusters_literal_settings() {
     };
     let (img, stats) = render(settings, &volume);
     assert!(stats.clusters >= 10, "{} clusters", stats.clusters);
-    check("satf_fitted_literal", &img);
+    common::check_golden("satf_fitted_literal", &img, MAX_MEAN_FLIP);
 }
