@@ -48,12 +48,9 @@ pub fn scene_from_inputs(inputs: &[PathBuf]) -> Result<(Scene, bool), RenderErro
                 .map_err(invalid)?;
             Ok((scene, true))
         }
-        many if many.iter().any(|p| is_obj(p)) => {
-            Err(invalid("give one hair-card OBJ file alone"))
-        }
+        many if many.iter().any(|p| is_obj(p)) => Err(invalid("give one hair-card OBJ file alone")),
         files => {
-            let mut scene =
-                Scene::from_str("[head]\ngenerated = false\n", ".").map_err(invalid)?;
+            let mut scene = Scene::from_str("[head]\ngenerated = false\n", ".").map_err(invalid)?;
             scene.hair = vec![HairSpec {
                 files: files.to_vec(),
                 ..HairSpec::default()

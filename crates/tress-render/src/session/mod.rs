@@ -103,7 +103,8 @@ pub struct SessionFrame {
     /// CPU wall time of the `render` call (encoding, submission and, with waiting readback, the
     /// GPU's work), milliseconds.
     pub wall_ms: f64,
-    /// GPU memory the technique holds this frame.
+    /// GPU memory this frame's technique uses (pools of other techniques drawn before by the
+    /// same renderer are not counted).
     pub memory: Memory,
     /// The technique's own statistics.
     pub detail: FrameDetail,
@@ -139,6 +140,7 @@ pub struct Session {
     satf: Option<SatfPath>,
     loader: Option<DatabaseLoader>,
     readback: StatsReadback,
+    hair_visible: bool,
 }
 
 impl std::fmt::Debug for Session {
@@ -213,10 +215,12 @@ impl Session {
             satf: None,
             loader: options.satf_database,
             readback: options.readback,
+            hair_visible: true,
         };
         session.prepare(ctx)?;
         // Cards without hair (an OBJ) are framed on the cards.
-        if let (true, None, Some(p)) = (options.auto_frame, &session.prepared.hair, &session.patches)
+        if let (true, None, Some(p)) =
+            (options.auto_frame, &session.prepared.hair, &session.patches)
             && let Some(b) = p.scene.mesh.bounds()
         {
             frame_bounds(&mut session.scene, b.min, b.max);
@@ -429,6 +433,12 @@ impl Session {
         self.satf.as_ref().map(|s| &s.settings)
     }
 
+    /// Draw the hair (default) or only the head and background: the bare frame against which
+    /// the hair's screen coverage is measured.
+    pub fn set_hair_visible(&mut self, visible: bool) {
+        self.hair_visible = visible;
+    }
+
     /// How GPU statistics are read back from now on.
     pub fn set_stats_readback(&mut self, mode: StatsReadback) {
         self.readback = mode;
@@ -461,6 +471,7 @@ impl Session {
         let ambient = Vec3::splat(AMBIENT);
         let head = self.head.as_ref();
         let head_bytes = head.map_or(0, HeadGeometry::bytes);
+        let visible = self.hair_visible;
         let start = Instant::now();
         let (timings, memory, detail) = match self.technique {
             "patches" => {
@@ -473,7 +484,7 @@ impl Session {
                         lights,
                         ambient,
                         head_color: self.prepared.material.head_color,
-                        patches: Some(&p.geometry),
+                        patches: visible.then_some(&p.geometry),
                         head,
                         clear,
                     },
@@ -495,7 +506,7 @@ impl Session {
                         lights,
                         ambient,
                         head_color: self.prepared.material.head_color,
-                        clusters: Some(&s.geometry),
+                        clusters: visible.then_some(&s.geometry),
                         database: &s.database,
                         head,
                         clear,
@@ -508,7 +519,11 @@ impl Session {
                     database: s.database.bytes(),
                     ..Memory::default()
                 };
-                (Some(stats.timings.clone()), memory, FrameDetail::Satf(stats))
+                (
+                    Some(stats.timings.clone()),
+                    memory,
+                    FrameDetail::Satf(stats),
+                )
             }
             _ => {
                 let s = self.strands.as_mut().ok_or_else(|| invalid("no strands"))?;
@@ -520,16 +535,19 @@ impl Session {
                         lights,
                         ambient,
                         material: self.prepared.material,
-                        hair: s.hair.as_ref(),
+                        hair: s.hair.as_ref().filter(|_| visible),
                         head,
                         clear,
                     },
                 )?;
+                // What this frame's technique uses: the raymarcher alone needs no PPLL and no
+                // shadow maps (the renderer keeps those of techniques drawn before).
+                let raster = self.technique != "volume";
                 let memory = Memory {
                     geometry: s.hair.as_ref().map_or(0, StrandGeometry::bytes) + head_bytes,
-                    ppll: stats.ppll_bytes,
+                    ppll: if raster { stats.ppll_bytes } else { 0 },
                     volumes: stats.volume.map_or(0, |v| v.bytes),
-                    shadow_maps: s.renderer.shadow_bytes(),
+                    shadow_maps: if raster { s.renderer.shadow_bytes() } else { 0 },
                     ..Memory::default()
                 };
                 let timings = stats.gpu.as_ref().map(|g| g.timings.clone());

@@ -1,0 +1,257 @@
+//! `tress bench [INPUT...] -o DIR [--quick] [--sweep NAME]... [--quality]`
+//!
+//! The hybrid paper's evaluation (§4.1) for every technique: sweeps of camera distance, strand
+//! count, raymarch steps, volume resolution, PPLL k and the patch render scheme (see
+//! [`sweeps`]). Each point renders warm-up frames, then averages per-pass GPU timestamps over
+//! the timed frames (CPU wall time where the device has none, labelled), and measures the hair's
+//! screen coverage and the GPU memory breakdown. Into `DIR`: `SWEEP.csv` per sweep, charts as
+//! PNG and SVG, and `summary.md` naming the adapter. `--quality` adds the image-quality report
+//! against the CPU reference ray tracer ([`quality`]).
+
+mod chart;
+mod measure;
+mod quality;
+mod report;
+mod sweeps;
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use tress_render::session::{Session, SessionOptions};
+use tress_render::{COLOR_FORMAT, GpuContext, OffscreenTargets, TargetFormats};
+use tress_scene::Scene;
+
+use self::measure::{camera_at, measure};
+use self::report::Row;
+use self::sweeps::{SWEEPS, Sweep, sweep};
+use super::render::base_scene;
+use super::satf_bake::database_for_render;
+use crate::progress;
+
+/// The share of the scene's strands a `--quick` run draws.
+const QUICK_STRANDS: f32 = 0.25;
+
+/// Arguments of `tress bench`.
+#[derive(clap::Args, Debug)]
+pub(crate) struct Args {
+    /// A scene file (`.toml`) or hair files; nothing: the built-in demo.
+    inputs: Vec<PathBuf>,
+    /// Output folder (created): CSV per sweep, charts (PNG, SVG), summary.md.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// A reduced run for a CPU Vulkan: two points per sweep, 320x180, 1 warm-up and 2 timed
+    /// frames, a quarter of the scene's strands.
+    #[arg(long)]
+    quick: bool,
+    /// Run only these sweeps (repeatable): distance, strands, steps, resolution, k, patches.
+    #[arg(long = "sweep", value_name = "NAME")]
+    sweeps: Vec<String>,
+    /// Measure image quality against the CPU reference instead of speed (see `--spp`).
+    #[arg(long)]
+    quality: bool,
+    /// Reference samples per pixel of `--quality`.
+    #[arg(long)]
+    spp: Option<u32>,
+    /// Image width (default 1280, 320 with --quick).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height (default 720, 180 with --quick).
+    #[arg(long)]
+    height: Option<u32>,
+    /// Frames rendered before timing each point (default 5, 1 with --quick).
+    #[arg(long)]
+    warmup: Option<u32>,
+    /// Frames timed per point (default 60, 2 with --quick).
+    #[arg(long)]
+    frames: Option<u32>,
+    /// Override any scene or technique setting (`key=value`), as for `render`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+}
+
+/// Resolved run settings.
+pub(crate) struct Run {
+    pub(crate) ctx: GpuContext,
+    pub(crate) scene: Scene,
+    pub(crate) auto_frame: bool,
+    pub(crate) sets: Vec<String>,
+    pub(crate) size: [u32; 2],
+    pub(crate) dir: PathBuf,
+    pub(crate) scene_name: String,
+}
+
+impl Run {
+    /// A session on the run's scene with its overrides.
+    pub(crate) fn session(&self) -> Result<Session> {
+        open_session(&self.ctx, &self.scene, self.auto_frame, self.sets.clone())
+    }
+}
+
+/// A session on `scene` with `overrides`, SATF databases from the file or cache (baked on first
+/// use, as `tress render` does).
+pub(crate) fn open_session(
+    ctx: &GpuContext,
+    scene: &Scene,
+    auto_frame: bool,
+    overrides: Vec<String>,
+) -> Result<Session> {
+    {
+        let options = SessionOptions {
+            auto_frame,
+            overrides,
+            satf_database: Some(Box::new(|s| {
+                database_for_render(s.database.as_deref(), &s.bake, s.bake_explicit)
+                    .map(|(db, _)| db)
+                    .map_err(|e| format!("{e:#}"))
+            })),
+            ..SessionOptions::default()
+        };
+        Ok(Session::new(
+            ctx,
+            TargetFormats::default(),
+            scene.clone(),
+            options,
+        )?)
+    }
+}
+
+pub(crate) fn run(args: Args) -> Result<()> {
+    let names: Vec<String> = if args.sweeps.is_empty() {
+        SWEEPS.iter().map(|s| (*s).to_string()).collect()
+    } else {
+        args.sweeps.clone()
+    };
+    let (warmup, frames) = (
+        args.warmup.unwrap_or(if args.quick { 1 } else { 5 }),
+        args.frames.unwrap_or(if args.quick { 2 } else { 60 }),
+    );
+    if frames == 0 {
+        bail!("--frames must be at least 1");
+    }
+    let size = [
+        args.width.unwrap_or(if args.quick { 320 } else { 1280 }),
+        args.height.unwrap_or(if args.quick { 180 } else { 720 }),
+    ];
+    let (mut scene, auto_frame) = base_scene(&args.inputs)?;
+    scene.apply_overrides(&args.sets)?;
+    let mut sets = args.sets.clone();
+    if args.quick && !args.quality {
+        // A quarter of the strands: the quick run is about the pipeline, not the asset.
+        let quarter: Vec<String> = scene
+            .hair
+            .iter()
+            .enumerate()
+            .map(|(i, h)| format!("hair.{i}.strand_ratio={}", h.strand_ratio * QUICK_STRANDS))
+            .collect();
+        scene.apply_overrides(&quarter)?;
+        sets.extend(quarter);
+    }
+    // Every sweep is known before any work starts.
+    let plan: Vec<Sweep> = names
+        .iter()
+        .map(|n| sweep(n, args.quick, &scene))
+        .collect::<Result<_>>()?;
+    std::fs::create_dir_all(&args.output)
+        .with_context(|| format!("{}: creating the output folder", args.output.display()))?;
+    let scene_name = match args.inputs.as_slice() {
+        [] => "the built-in demo (scenes/demo.toml)".to_string(),
+        files => files
+            .iter()
+            .map(|f| f.display().to_string())
+            .collect::<Vec<_>>()
+            .join(" + "),
+    };
+    let run = Run {
+        ctx: GpuContext::headless()?,
+        scene,
+        auto_frame,
+        sets,
+        size,
+        dir: args.output.clone(),
+        scene_name,
+    };
+    if args.quality {
+        return quality::run(&run, args.quick, args.spp);
+    }
+    let info = &run.ctx.adapter_info;
+    let targets = OffscreenTargets::new(&run.ctx, size, COLOR_FORMAT)?;
+    let mut done = Vec::new();
+    for sw in plan {
+        let mut rows = Vec::new();
+        // A fresh session per sweep: the sweep's overrides never leak into the next one.
+        let mut session = run.session()?;
+        for (i, p) in sw.points.iter().enumerate() {
+            for t in &sw.techniques {
+                let pb = progress::spinner(format!(
+                    "{} {}/{}: {t} at {} on {}",
+                    sw.name,
+                    i + 1,
+                    sw.points.len(),
+                    p.x,
+                    info.name
+                ));
+                let result = (|| -> Result<_> {
+                    for s in &p.sets {
+                        session.set(&run.ctx, s)?;
+                    }
+                    session.set_technique(&run.ctx, t)?;
+                    let camera = camera_at(&session, size, p.distance);
+                    let (m, _) =
+                        measure(&run.ctx, &mut session, &targets, &camera, warmup, frames)?;
+                    Ok(m)
+                })();
+                pb.finish_and_clear();
+                let result = result.map_err(|e| format!("{e:#}"));
+                match &result {
+                    Ok(m) => eprintln!(
+                        "{} {t} x={}: {:.2} ms ({}), coverage {:.2}%, {}",
+                        sw.name,
+                        p.x,
+                        m.frame_ms,
+                        m.timing.name(),
+                        m.coverage_pct,
+                        m.memory
+                    ),
+                    Err(e) => eprintln!("{} {t} x={}: failed: {e}", sw.name, p.x),
+                }
+                rows.push(Row {
+                    technique: t,
+                    x: p.x,
+                    result,
+                });
+            }
+        }
+        report::write(
+            &run.dir,
+            &format!("{}.csv", sw.name),
+            &report::csv(&sw, &rows),
+        )?;
+        let charts = report::charts(&run.dir, &sw, &rows)?;
+        done.push((sw, rows, charts));
+    }
+    let header = report::Header {
+        adapter: &info.name,
+        backend: &format!("{:?}", info.backend).to_lowercase(),
+        driver: &format!("{} {}", info.driver, info.driver_info),
+        device_type: &format!("{:?}", info.device_type),
+        scene: &run.scene_name,
+        size,
+        warmup,
+        frames,
+        quick: args.quick,
+    };
+    report::write(&run.dir, "summary.md", &report::markdown(&header, &done))?;
+    let failed = done
+        .iter()
+        .flat_map(|d| &d.1)
+        .filter(|r| r.result.is_err())
+        .count();
+    println!(
+        "wrote {} sweeps into {} ({} points, {failed} failed) on {}",
+        done.len(),
+        run.dir.display(),
+        done.iter().map(|d| d.1.len()).sum::<usize>(),
+        info.name
+    );
+    Ok(())
+}

@@ -1,0 +1,405 @@
+//! `tress bench --quality`: every technique's image against the CPU reference ray tracer
+//! (`tress-trace`), on the example scenes at several camera distances, as mean FLIP, RMSE and
+//! SSIM; and the volume's ambient occlusion alone against the traced AO (the hybrid paper's
+//! Figure 5 comparison, as a number).
+//!
+//! **AO alone.** The renderer has no AO output of its own, so the volume technique renders the
+//! scene twice with every light off, once with `volume.ao` on and once off: what remains is the
+//! ambient term `ambient · base · AO` and `ambient · base`, and their ratio is the AO the
+//! raymarcher applied, per pixel. It is compared with the traced AO image (same `ao_radius`)
+//! over the hair only: pixels the hair does not cover (the same hair mask for both) are set to 1
+//! in both images, so the head, which has no volume AO on the GPU, does not count.
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use glam::Vec3;
+use tress_render::session::{Session, TECHNIQUES};
+use tress_render::{COLOR_FORMAT, LinearImage, OffscreenTargets};
+use tress_scene::Scene;
+use tress_trace::{Aov, DisplayImage, Image, TraceSettings, metrics};
+
+use super::measure::{camera_at, coverage_pct};
+use super::report::write;
+use super::{Run, open_session};
+use crate::progress;
+
+/// The example scenes measured when no input is given (all generated hair, no download).
+const SCENES: [(&str, &str); 3] = [
+    ("demo", include_str!("../../../../../scenes/demo.toml")),
+    (
+        "straight",
+        include_str!("../../../../../scenes/straight.toml"),
+    ),
+    ("curly", include_str!("../../../../../scenes/curly.toml")),
+];
+
+/// One score.
+struct Row {
+    scene: String,
+    distance: f32,
+    coverage_pct: f64,
+    technique: &'static str,
+    /// `color` or `ao`.
+    aov: &'static str,
+    result: Result<(metrics::Scores, String, String), String>,
+}
+
+fn linear_to_trace(img: &LinearImage) -> Image {
+    Image {
+        width: img.width,
+        height: img.height,
+        pixels: img
+            .pixels
+            .iter()
+            .map(|p| Vec3::new(p[0], p[1], p[2]))
+            .collect(),
+    }
+}
+
+/// The AO the raymarcher applied: `lit / unlit` per pixel where the hair covers it, 1 elsewhere
+/// (also where the unlit ambient is too dark to divide by).
+fn ao_ratio(with_ao: &LinearImage, without_ao: &LinearImage, mask: &[bool]) -> Image {
+    let pixels = with_ao
+        .pixels
+        .iter()
+        .zip(&without_ao.pixels)
+        .zip(mask)
+        .map(|((a, b), &hair)| {
+            let lum = |p: &[f32; 4]| 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+            let v = if hair && lum(b) > 1e-5 {
+                (lum(a) / lum(b)).clamp(0.0, 1.0)
+            } else {
+                1.0
+            };
+            Vec3::splat(v)
+        })
+        .collect();
+    Image {
+        width: with_ao.width,
+        height: with_ao.height,
+        pixels,
+    }
+}
+
+/// Pixels where two frames (with and without hair) differ beyond one 8-bit level.
+fn hair_mask(with: &LinearImage, without: &LinearImage) -> Vec<bool> {
+    with.pixels
+        .iter()
+        .zip(&without.pixels)
+        .map(|(a, b)| (0..3).any(|c| (a[c] - b[c]).abs() > 1.0 / 255.0))
+        .collect()
+}
+
+fn save(img: &Image, path: &Path) -> Result<String> {
+    img.save(path)?;
+    Ok(path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default())
+}
+
+fn score(
+    reference: &Image,
+    test: &Image,
+    dir: &Path,
+    stem: &str,
+) -> Result<(metrics::Scores, String, String)> {
+    let cmp = metrics::compare(
+        &DisplayImage::from_linear(reference),
+        &DisplayImage::from_linear(test),
+    )?;
+    let image = save(test, &dir.join(format!("{stem}.png")))?;
+    let heat = dir.join(format!("{stem}-flip.png"));
+    cmp.save_heatmap(&heat)?;
+    let heat = heat
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    Ok((cmp.scores, image, heat))
+}
+
+/// The scenes of the report: the inputs' one, or the examples.
+fn scenes(run: &Run) -> Result<Vec<(String, Scene, bool)>> {
+    if run.scene_name.starts_with("the built-in demo") {
+        SCENES
+            .iter()
+            .map(|(name, text)| {
+                let mut s = Scene::from_str(text, ".")?;
+                s.apply_overrides(&run.sets)?;
+                Ok(((*name).to_string(), s, false))
+            })
+            .collect()
+    } else {
+        Ok(vec![(
+            run.scene_name.clone(),
+            run.scene.clone(),
+            run.auto_frame,
+        )])
+    }
+}
+
+/// Render the report into `run.dir`.
+pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>) -> Result<()> {
+    let spp = spp.unwrap_or(if quick { 16 } else { 64 });
+    let distances: &[f32] = if quick { &[1.0, 3.0] } else { &[1.0, 2.0, 4.0] };
+    let size = if run.size == [1280, 720] || run.size == [320, 180] {
+        // The traced reference is the slow part: a smaller default frame.
+        if quick { [192, 108] } else { [384, 216] }
+    } else {
+        run.size
+    };
+    let mut all = scenes(run)?;
+    if quick {
+        all.truncate(1);
+    }
+    let targets = OffscreenTargets::new(&run.ctx, size, COLOR_FORMAT)?;
+    let mut rows = Vec::new();
+    for (name, scene, auto_frame) in &all {
+        let mut scene = scene.clone();
+        scene.output.width = size[0];
+        scene.output.height = size[1];
+        let mut session = open_session(&run.ctx, &scene, *auto_frame, Vec::new())?;
+        for &d in distances {
+            let tag = format!("{}-d{d}", slug(name));
+            let camera = camera_at(&session, size, d);
+            // The reference sees exactly the session's scene from the same camera.
+            let mut traced = session.scene().clone();
+            let (eye, target) = (traced.camera.eye, traced.camera.target);
+            traced.camera.eye = target + (eye - target) * d;
+            traced.camera.far = traced.camera.far.max(traced.camera.far * d);
+            let pb = progress::spinner(format!("{name} x{d}: tracing the reference ({spp} spp)"));
+            let settings = TraceSettings {
+                spp,
+                ..TraceSettings::default()
+            };
+            let reference = tress_trace::render_reference(&traced, &settings);
+            pb.finish_and_clear();
+            let reference = reference.with_context(|| format!("{name}: the reference"))?;
+            save(&reference, &run.dir.join(format!("{tag}-reference.png")))?;
+
+            let mut mask = Vec::new();
+            let mut coverage = 0.0;
+            for t in TECHNIQUES {
+                let pb = progress::spinner(format!("{name} x{d}: {t}"));
+                let result = (|| -> Result<_> {
+                    session.set_technique(&run.ctx, t)?;
+                    session.set_hair_visible(true);
+                    let img = frame(run, &mut session, &targets, &camera)?;
+                    if t == "strands" {
+                        session.set_hair_visible(false);
+                        let bare = frame(run, &mut session, &targets, &camera);
+                        session.set_hair_visible(true);
+                        let bare = bare?;
+                        mask = hair_mask(&img, &bare);
+                        coverage = coverage_pct(&img, &bare);
+                    }
+                    score(
+                        &reference,
+                        &linear_to_trace(&img),
+                        &run.dir,
+                        &format!("{tag}-{t}"),
+                    )
+                })();
+                pb.finish_and_clear();
+                rows.push(Row {
+                    scene: name.clone(),
+                    distance: d,
+                    coverage_pct: coverage,
+                    technique: t,
+                    aov: "color",
+                    result: result.map_err(|e| format!("{e:#}")),
+                });
+            }
+
+            // The volume's AO alone against the traced AO.
+            let pb = progress::spinner(format!("{name} x{d}: ambient occlusion"));
+            let result = (|| -> Result<_> {
+                let ao_settings = TraceSettings {
+                    spp,
+                    aov: Aov::Ao,
+                    ao_radius: session.prepared().volume.ao_radius,
+                    ..TraceSettings::default()
+                };
+                let traced_ao = tress_trace::render_reference(&traced, &ao_settings)?;
+                let masked = Image {
+                    width: traced_ao.width,
+                    height: traced_ao.height,
+                    pixels: traced_ao
+                        .pixels
+                        .iter()
+                        .zip(&mask)
+                        .map(|(p, &hair)| if hair { *p } else { Vec3::ONE })
+                        .collect(),
+                };
+                save(&masked, &run.dir.join(format!("{tag}-reference-ao.png")))?;
+                let gpu = volume_ao(run, &mut session, &targets, &camera, &mask)?;
+                score(&masked, &gpu, &run.dir, &format!("{tag}-volume-ao"))
+            })();
+            pb.finish_and_clear();
+            rows.push(Row {
+                scene: name.clone(),
+                distance: d,
+                coverage_pct: coverage,
+                technique: "volume",
+                aov: "ao",
+                result: result.map_err(|e| format!("{e:#}")),
+            });
+            for r in rows.iter().filter(|r| r.scene == *name && r.distance == d) {
+                match &r.result {
+                    Ok((s, _, _)) => eprintln!(
+                        "{} x{} {} {}: FLIP {:.4} RMSE {:.4} SSIM {:.3}",
+                        r.scene, r.distance, r.technique, r.aov, s.flip, s.rmse, s.ssim
+                    ),
+                    Err(e) => eprintln!(
+                        "{} x{} {} {}: failed: {e}",
+                        r.scene, r.distance, r.technique, r.aov
+                    ),
+                }
+            }
+        }
+    }
+    write(&run.dir, "quality.csv", &csv(&rows))?;
+    let adapter = &run.ctx.adapter_info.name;
+    write(&run.dir, "quality.md", &markdown(&rows, adapter, size, spp))?;
+    println!(
+        "wrote the quality report of {} scenes x {} distances into {} ({} scores) on {adapter}",
+        all.len(),
+        distances.len(),
+        run.dir.display(),
+        rows.len()
+    );
+    Ok(())
+}
+
+fn slug(name: &str) -> String {
+    name.chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect::<String>()
+        .trim_matches('_')
+        .chars()
+        .take(40)
+        .collect()
+}
+
+fn frame(
+    run: &Run,
+    session: &mut Session,
+    targets: &OffscreenTargets,
+    camera: &tress_render::Camera,
+) -> Result<LinearImage> {
+    session.render(&run.ctx, &targets.targets(), camera, None)?;
+    Ok(tress_render::read_texture(&run.ctx, &targets.color)?)
+}
+
+/// The raymarcher's AO (see the module docs): lights off, AO on over AO off.
+fn volume_ao(
+    run: &Run,
+    session: &mut Session,
+    targets: &OffscreenTargets,
+    camera: &tress_render::Camera,
+    mask: &[bool],
+) -> Result<Image> {
+    session.set_technique(&run.ctx, "volume")?;
+    let dark: Vec<_> = session
+        .lights()
+        .iter()
+        .map(|l| tress_render::DirectionalLight {
+            intensity: 0.0,
+            ..*l
+        })
+        .collect();
+    let was_on = session.prepared().volume.ao;
+    let mut render = |ao: bool| -> Result<LinearImage> {
+        session.set(&run.ctx, &format!("volume.ao={ao}"))?;
+        session.render(&run.ctx, &targets.targets(), camera, Some(&dark))?;
+        Ok(tress_render::read_texture(&run.ctx, &targets.color)?)
+    };
+    let on = render(true);
+    let off = render(false);
+    session.set(&run.ctx, &format!("volume.ao={was_on}"))?;
+    Ok(ao_ratio(&on?, &off?, mask))
+}
+
+fn csv(rows: &[Row]) -> String {
+    let mut out = String::from(
+        "scene,distance,coverage_pct,technique,aov,flip,rmse,ssim,image,heatmap,error\n",
+    );
+    for r in rows {
+        let scene = r.scene.replace([',', '"', '\n'], "_");
+        match &r.result {
+            Ok((s, img, heat)) => out.push_str(&format!(
+                "{scene},{},{:.3},{},{},{:.5},{:.5},{:.4},{img},{heat},\n",
+                r.distance, r.coverage_pct, r.technique, r.aov, s.flip, s.rmse, s.ssim
+            )),
+            Err(e) => out.push_str(&format!(
+                "{scene},{},{:.3},{},{},,,,,,\"{}\"\n",
+                r.distance,
+                r.coverage_pct,
+                r.technique,
+                r.aov,
+                e.replace('"', "'")
+            )),
+        }
+    }
+    out
+}
+
+fn markdown(rows: &[Row], adapter: &str, size: [u32; 2], spp: u32) -> String {
+    let mut md = format!(
+        "# tress image quality\n\nEvery technique against the CPU reference ray tracer \
+         (`tress-trace`, {spp} samples per pixel), {}x{}, GPU images from **{adapter}**. \
+         FLIP is the mean FLIP error (0 identical, lower is better); the AO row compares the \
+         volume's ambient occlusion alone with the traced AO over the hair (see \
+         `crates/tress-cli/src/cmd/bench/quality.rs`). Distances are multiples of the scene \
+         camera's.\n\n| scene | distance | coverage % | technique | aov | FLIP | RMSE | SSIM | image | FLIP map |\n\
+         | --- | ---: | ---: | --- | --- | ---: | ---: | ---: | --- | --- |\n",
+        size[0], size[1]
+    );
+    for r in rows {
+        match &r.result {
+            Ok((s, img, heat)) => md.push_str(&format!(
+                "| {} | {} | {:.2} | {} | {} | {:.4} | {:.4} | {:.3} | ![]({img}) | ![]({heat}) |\n",
+                r.scene, r.distance, r.coverage_pct, r.technique, r.aov, s.flip, s.rmse, s.ssim
+            )),
+            Err(e) => md.push_str(&format!(
+                "| {} | {} | {:.2} | {} | {} | failed: {e} | | | | |\n",
+                r.scene, r.distance, r.coverage_pct, r.technique, r.aov
+            )),
+        }
+    }
+    md.push_str(
+        "\nReferences: `*-reference.png` (color) and `*-reference-ao.png` (AO over the hair).\n",
+    );
+    md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn img(v: &[[f32; 4]]) -> LinearImage {
+        LinearImage {
+            width: v.len() as u32,
+            height: 1,
+            pixels: v.to_vec(),
+        }
+    }
+
+    #[test]
+    fn ao_ratio_is_lit_over_unlit_on_the_hair_and_one_elsewhere() {
+        let on = img(&[[0.01, 0.01, 0.01, 1.0], [0.02, 0.02, 0.02, 1.0], [0.0; 4]]);
+        let off = img(&[[0.02, 0.02, 0.02, 1.0], [0.02, 0.02, 0.02, 1.0], [0.0; 4]]);
+        let ao = ao_ratio(&on, &off, &[true, false, true]);
+        assert!((ao.pixels[0].x - 0.5).abs() < 1e-6);
+        assert_eq!(ao.pixels[1], Vec3::ONE, "not hair");
+        assert_eq!(ao.pixels[2], Vec3::ONE, "too dark to divide");
+    }
+
+    #[test]
+    fn the_example_scenes_parse() {
+        for (name, text) in SCENES {
+            Scene::from_str(text, ".").unwrap_or_else(|e| panic!("{name}: {e}"));
+        }
+    }
+}

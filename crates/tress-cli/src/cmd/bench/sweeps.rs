@@ -1,0 +1,218 @@
+//! The sweeps of `tress bench`: the hybrid paper's §4.1 evaluation for every technique.
+//!
+//! | sweep        | varies                          | techniques                   | paper     |
+//! | ------------ | ------------------------------- | ---------------------------- | --------- |
+//! | `distance`   | camera distance, near → far     | all five                     | Fig. 7, 8 |
+//! | `strands`    | strand ratio 1 → 0              | strands, volume, hybrid      | Fig. 10   |
+//! | `steps`      | raymarch steps                  | volume                       | Fig. 9    |
+//! | `resolution` | volume resolution               | volume                       | Fig. 9    |
+//! | `k`          | PPLL k (sorted fragments)       | strands                      | §3.3      |
+//! | `patches`    | 3-pass vs 4-pass                | patches                      | Scheuermann slides |
+
+use anyhow::{Result, bail};
+use tress_scene::Scene;
+
+/// One point of a sweep: its x value, a label, and what changes for it.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Point {
+    /// The x value charted.
+    pub(crate) x: f64,
+    /// Dotted scene overrides of this point.
+    pub(crate) sets: Vec<String>,
+    /// The camera's distance as a multiple of the scene's.
+    pub(crate) distance: f32,
+}
+
+/// A sweep: what it varies and over which techniques.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Sweep {
+    /// Its name (CSV and chart file names).
+    pub(crate) name: &'static str,
+    /// Chart title.
+    pub(crate) title: &'static str,
+    /// The x axis.
+    pub(crate) x_label: &'static str,
+    /// Log-scaled x axis.
+    pub(crate) log_x: bool,
+    /// Techniques measured at every point.
+    pub(crate) techniques: Vec<&'static str>,
+    /// The points.
+    pub(crate) points: Vec<Point>,
+}
+
+/// Every sweep's name, in the order they run.
+pub(crate) const SWEEPS: [&str; 6] = ["distance", "strands", "steps", "resolution", "k", "patches"];
+
+fn point(x: f64, sets: Vec<String>) -> Point {
+    Point {
+        x,
+        sets,
+        distance: 1.0,
+    }
+}
+
+/// The sweep called `name`, full or quick, for `scene` (whose hair entries give the base strand
+/// ratios of the strand sweep).
+pub(crate) fn sweep(name: &str, quick: bool, scene: &Scene) -> Result<Sweep> {
+    let pick = |full: &[f64], quick_values: &[f64]| -> Vec<f64> {
+        if quick {
+            quick_values.to_vec()
+        } else {
+            full.to_vec()
+        }
+    };
+    Ok(match name {
+        "distance" => {
+            let far: f64 = 12.0;
+            let n = if quick { 2 } else { 8 };
+            Sweep {
+                name: "distance",
+                title: "Frame time by camera distance (Figures 7 and 8)",
+                x_label: "camera distance (multiple of the scene's)",
+                log_x: true,
+                techniques: vec!["strands", "volume", "hybrid", "patches", "satf"],
+                points: (0..n)
+                    .map(|i| {
+                        let f = far.powf(f64::from(i) / f64::from(n - 1));
+                        Point {
+                            x: f,
+                            sets: Vec::new(),
+                            distance: f as f32,
+                        }
+                    })
+                    .collect(),
+            }
+        }
+        "strands" => {
+            if scene.hair.is_empty() {
+                bail!("the strand sweep needs hair in the scene");
+            }
+            let ratios = pick(&[1.0, 0.75, 0.5, 0.25, 0.1, 0.05], &[1.0, 0.25]);
+            Sweep {
+                name: "strands",
+                title: "Frame time by strand count (Figure 10)",
+                x_label: "strand ratio (share of the scene's strands)",
+                log_x: false,
+                techniques: vec!["strands", "volume", "hybrid"],
+                points: ratios
+                    .into_iter()
+                    .map(|r| {
+                        let sets = scene
+                            .hair
+                            .iter()
+                            .enumerate()
+                            .map(|(i, h)| {
+                                format!("hair.{i}.strand_ratio={}", f64::from(h.strand_ratio) * r)
+                            })
+                            .collect();
+                        point(r, sets)
+                    })
+                    .collect(),
+            }
+        }
+        "steps" => Sweep {
+            name: "steps",
+            title: "Raymarcher time by raymarch steps (Figure 9)",
+            x_label: "raymarch steps",
+            log_x: true,
+            techniques: vec!["volume"],
+            points: pick(&[32.0, 64.0, 128.0, 256.0, 512.0, 1024.0], &[64.0, 512.0])
+                .into_iter()
+                .map(|s| point(s, vec![format!("volume.steps={s}")]))
+                .collect(),
+        },
+        "resolution" => Sweep {
+            name: "resolution",
+            title: "Raymarcher time by volume resolution (Figure 9)",
+            x_label: "volume resolution (voxels per axis)",
+            log_x: true,
+            techniques: vec!["volume"],
+            points: pick(&[32.0, 64.0, 128.0, 256.0], &[64.0, 128.0])
+                .into_iter()
+                .map(|r| point(r, vec![format!("volume.resolution={r}")]))
+                .collect(),
+        },
+        "k" => Sweep {
+            name: "k",
+            title: "Rasterizer time by PPLL k",
+            x_label: "k (fragments sorted per pixel)",
+            log_x: true,
+            techniques: vec!["strands"],
+            points: pick(&[1.0, 2.0, 4.0, 8.0, 16.0, 32.0], &[4.0, 16.0])
+                .into_iter()
+                .map(|k| point(k, vec![format!("strands.k={k}")]))
+                .collect(),
+        },
+        "patches" => Sweep {
+            name: "patches",
+            title: "Polygon patches: 3-pass vs 4-pass (early-Z) render",
+            x_label: "passes",
+            log_x: false,
+            techniques: vec!["patches"],
+            points: [3.0, 4.0]
+                .into_iter()
+                .map(|p| point(p, vec![format!("patches.scheme=\"{p}-pass\"")]))
+                .collect(),
+        },
+        other => bail!("unknown sweep `{other}` (available: {})", SWEEPS.join(", ")),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn demo() -> Scene {
+        tress_render::session::scene_from_inputs(&[]).unwrap().0
+    }
+
+    #[test]
+    fn every_named_sweep_exists_and_quick_is_smaller() {
+        let scene = demo();
+        for name in SWEEPS {
+            let full = sweep(name, false, &scene).unwrap();
+            let quick = sweep(name, true, &scene).unwrap();
+            assert_eq!(full.name, name);
+            assert!(quick.points.len() <= full.points.len(), "{name}");
+            assert!(quick.points.len() >= 2, "{name}: a sweep needs two points");
+        }
+        assert!(sweep("nope", false, &scene).is_err());
+    }
+
+    #[test]
+    fn distance_goes_from_the_scene_to_twelve_times_it() {
+        let s = sweep("distance", false, &demo()).unwrap();
+        assert_eq!(s.points.first().unwrap().distance, 1.0);
+        assert!((s.points.last().unwrap().distance - 12.0).abs() < 1e-4);
+        assert!(s.points.windows(2).all(|w| w[1].distance > w[0].distance));
+    }
+
+    #[test]
+    fn strand_ratios_scale_the_scene_s_own_ratio() {
+        let scene = demo();
+        let base = scene.hair[0].strand_ratio;
+        let s = sweep("strands", false, &scene).unwrap();
+        assert_eq!(
+            s.points[0].sets,
+            vec![format!("hair.0.strand_ratio={}", f64::from(base))]
+        );
+        // Every override is one the scene accepts.
+        for p in &s.points {
+            let mut sc = scene.clone();
+            sc.apply_overrides(&p.sets).unwrap();
+            assert!((f64::from(sc.hair[0].strand_ratio) - f64::from(base) * p.x).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn every_override_parses_against_the_demo_scene() {
+        let scene = demo();
+        for name in SWEEPS {
+            for p in sweep(name, false, &scene).unwrap().points {
+                let mut sc = scene.clone();
+                sc.apply_overrides(&p.sets)
+                    .unwrap_or_else(|e| panic!("{name}: {:?}: {e}", p.sets));
+            }
+        }
+    }
+}
