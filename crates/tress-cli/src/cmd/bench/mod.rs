@@ -146,7 +146,10 @@ pub(crate) fn run(args: Args) -> Result<()> {
         scene.apply_overrides(&quarter)?;
         sets.extend(quarter);
     }
-    // Every sweep is known before any work starts.
+    // Settings and every sweep are checked before any work starts.
+    let settings = tress_render::PreparedScene::load_settings(&scene)?;
+    settings.volume.validate()?;
+    settings.strands.validate()?;
     let plan: Vec<Sweep> = names
         .iter()
         .map(|n| sweep(n, args.quick, &scene))

@@ -1,0 +1,154 @@
+//! `tress bench`: the sweeps' CSV, charts and summary, and the `--quality` report.
+
+mod common;
+
+use common::{assert_gpu_success, skip_gpu, tmp, tress};
+
+fn csv_rows(path: &std::path::Path) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(
+        header[0],
+        if header.contains(&"flip") {
+            "scene"
+        } else {
+            "sweep"
+        }
+    );
+    lines
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect()
+}
+
+#[test]
+fn sweeps_write_csv_charts_and_a_summary_naming_the_adapter() {
+    if skip_gpu() {
+        eprintln!("skipped on purpose: TRESS_SKIP_GPU_TESTS=1");
+        return;
+    }
+    let dir = tmp("bench");
+    let out = tress(&[
+        "bench",
+        "--quick",
+        "--sweep",
+        "resolution",
+        "--sweep",
+        "patches",
+        "--width",
+        "160",
+        "--height",
+        "90",
+        "--frames",
+        "2",
+        "-o",
+        dir.to_str().unwrap(),
+    ]);
+    assert_gpu_success(&out);
+    let rows = csv_rows(&dir.join("resolution.csv"));
+    assert_eq!(rows.len(), 2, "two quick points");
+    for r in &rows {
+        assert_eq!(r[1], "volume");
+        let ms: f64 = r[3].parse().unwrap();
+        assert!(ms > 0.0, "frame time {ms}");
+        assert!(r[4] == "gpu_timestamps" || r[4] == "cpu_wall");
+        let coverage: f64 = r[6].parse().unwrap();
+        assert!(coverage > 0.5 && coverage < 60.0, "coverage {coverage}%");
+        assert_eq!(r[14], "2", "frames timed");
+        assert_eq!(r.last().unwrap(), "", "no error");
+    }
+    // The volume's memory grows with the cube of the resolution (64 -> 128: 8 times).
+    let vol = |r: &Vec<String>| r[9].parse::<f64>().unwrap();
+    let ratio = vol(&rows[1]) / vol(&rows[0]);
+    assert!((7.0..9.0).contains(&ratio), "volume bytes ratio {ratio}");
+    // Memory columns add up to the total.
+    for r in &rows {
+        let parts: u64 = r[7..13].iter().map(|v| v.parse::<u64>().unwrap()).sum();
+        assert_eq!(parts, r[13].parse::<u64>().unwrap());
+    }
+    let patches = csv_rows(&dir.join("patches.csv"));
+    assert_eq!(
+        patches.iter().map(|r| r[2].as_str()).collect::<Vec<_>>(),
+        ["3", "4"]
+    );
+    for name in ["resolution", "patches"] {
+        let png = image::open(dir.join(format!("{name}.png"))).unwrap();
+        assert!(png.width() > 400 && png.height() > 200);
+        let svg = std::fs::read_to_string(dir.join(format!("{name}.svg"))).unwrap();
+        assert!(
+            svg.starts_with("<svg") && svg.contains("<text"),
+            "{name}.svg"
+        );
+    }
+    let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    assert!(summary.contains("adapter: **"), "{summary}");
+    assert!(summary.contains("![resolution](resolution.png)"));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("0 failed"));
+}
+
+#[test]
+fn quality_scores_every_technique_against_the_reference() {
+    if skip_gpu() {
+        eprintln!("skipped on purpose: TRESS_SKIP_GPU_TESTS=1");
+        return;
+    }
+    let dir = tmp("quality");
+    let out = tress(&[
+        "bench",
+        "--quality",
+        "--quick",
+        "--spp",
+        "4",
+        "--width",
+        "128",
+        "--height",
+        "72",
+        "-o",
+        dir.to_str().unwrap(),
+    ]);
+    assert_gpu_success(&out);
+    let rows = csv_rows(&dir.join("quality.csv"));
+    // One scene, two distances, five techniques and the AO.
+    assert_eq!(rows.len(), 12, "{rows:?}");
+    for r in &rows {
+        assert_eq!(r.last().unwrap(), "", "error in {r:?}");
+        let flip: f64 = r[5].parse().unwrap();
+        let ssim: f64 = r[7].parse().unwrap();
+        assert!((0.0..0.5).contains(&flip), "{r:?}");
+        assert!(ssim > 0.3 && ssim <= 1.0, "{r:?}");
+        assert!(dir.join(&r[8]).exists() && dir.join(&r[9]).exists());
+    }
+    assert_eq!(rows.iter().filter(|r| r[4] == "ao").count(), 2);
+    // Farther away the hair covers less of the frame, so every image is closer to the
+    // reference's background: FLIP falls with distance for each technique.
+    for t in ["strands", "volume", "patches"] {
+        let f = |d: &str| -> f64 {
+            rows.iter()
+                .find(|r| r[1] == d && r[3] == t && r[4] == "color")
+                .unwrap()[5]
+                .parse()
+                .unwrap()
+        };
+        assert!(f("3") < f("1"), "{t}: {} vs {}", f("3"), f("1"));
+    }
+    let md = std::fs::read_to_string(dir.join("quality.md")).unwrap();
+    assert!(md.contains("| demo | 1 |") && md.contains("-reference.png"));
+}
+
+#[test]
+fn bad_bench_arguments_are_one_line_errors() {
+    let dir = tmp("bad-bench");
+    for (args, needle) in [
+        (vec!["--sweep", "nope"], "unknown sweep `nope`"),
+        (vec!["--frames", "0"], "--frames must be at least 1"),
+        (vec!["--set", "volume.steps=0"], "steps"),
+    ] {
+        let mut all = vec!["bench", "--quick", "-o", dir.to_str().unwrap()];
+        all.extend(args);
+        let out = tress(&all);
+        assert_eq!(out.status.code(), Some(2), "{all:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains(needle), "{all:?}: {err}");
+    }
+}

@@ -1,0 +1,142 @@
+//! `Session`: one scene drawn with every technique, settings by dotted name, memory breakdown.
+
+mod common;
+
+use tress_render::session::{FrameDetail, Session, SessionOptions, TECHNIQUES, scene_from_inputs};
+use tress_render::{COLOR_FORMAT, GpuContext, OffscreenTargets, TargetFormats, read_texture};
+use tress_satf::database::{BakeSettings, bake};
+use tress_satf::hrir::HrirSettings;
+
+const SIZE: [u32; 2] = [96, 54];
+
+/// The demo scene with 0.5% of the ponytail's strands, and a small SATF database.
+fn session(ctx: &GpuContext) -> Session {
+    let (scene, auto_frame) = scene_from_inputs(&[]).unwrap();
+    let options = SessionOptions {
+        auto_frame,
+        overrides: vec!["hair.0.strand_ratio=0.005".into()],
+        satf_database: Some(Box::new(|_| {
+            let s = BakeSettings {
+                samples: 48,
+                hrir: HrirSettings {
+                    pixels: 8,
+                    view_angles: 8,
+                    light_angles: 8,
+                    ..Default::default()
+                },
+                ..Default::default()
+            };
+            bake(&s, |_, _| {}).map_err(|e| e.to_string())
+        })),
+        ..SessionOptions::default()
+    };
+    Session::new(ctx, TargetFormats::default(), scene, options).unwrap()
+}
+
+/// Pixels differing from the background by more than a few levels.
+fn drawn(ctx: &GpuContext, targets: &OffscreenTargets, bg: glam::Vec3) -> usize {
+    let img = read_texture(ctx, &targets.color).unwrap();
+    img.pixels
+        .iter()
+        .filter(|p| (0..3).any(|c| (p[c] - bg[c]).abs() > 0.02))
+        .count()
+}
+
+#[test]
+fn every_technique_draws_the_scene_and_reports_its_memory() {
+    let Some(ctx) = common::gpu() else { return };
+    let mut s = session(&ctx);
+    assert_eq!(s.technique(), "strands");
+    let targets = OffscreenTargets::new(&ctx, SIZE, COLOR_FORMAT).unwrap();
+    let camera = s.camera(SIZE);
+    let bg = s.prepared().background;
+    for t in TECHNIQUES {
+        s.set_technique(&ctx, t).unwrap();
+        let f = s.render(&ctx, &targets.targets(), &camera, None).unwrap();
+        assert_eq!(f.technique, t);
+        assert_eq!(f.size, SIZE);
+        let n = drawn(&ctx, &targets, bg);
+        assert!(n > 100, "{t}: only {n} pixels drawn");
+        let m = f.memory;
+        assert!(m.geometry > 0, "{t}: {m}");
+        match t {
+            "strands" => {
+                assert!(
+                    m.ppll > 0 && m.shadow_maps > 0 && m.volumes == 0,
+                    "{t}: {m}"
+                );
+                assert!(matches!(f.detail, FrameDetail::Strands(_)));
+            }
+            // The raymarcher uses no PPLL and no shadow maps, though the renderer kept them.
+            "volume" => assert!(m.volumes > 0 && m.ppll == 0 && m.shadow_maps == 0, "{m}"),
+            "patches" => {
+                assert!(m.textures > 0 && m.ppll == 0, "{m}");
+                assert!(matches!(f.detail, FrameDetail::Patches(_)));
+            }
+            "satf" => {
+                assert!(m.database > 0 && m.textures > 0 && m.shadow_maps > 0, "{m}");
+                assert!(matches!(f.detail, FrameDetail::Satf(_)));
+            }
+            _ => {}
+        }
+        assert_eq!(m.total(), m.rows().iter().map(|r| r.1).sum::<u64>());
+    }
+}
+
+#[test]
+fn hiding_the_hair_leaves_the_head_and_settings_apply_live() {
+    let Some(ctx) = common::gpu() else { return };
+    let mut s = session(&ctx);
+    let targets = OffscreenTargets::new(&ctx, SIZE, COLOR_FORMAT).unwrap();
+    let camera = s.camera(SIZE);
+    let bg = s.prepared().background;
+    s.render(&ctx, &targets.targets(), &camera, None).unwrap();
+    let with = drawn(&ctx, &targets, bg);
+    s.set_hair_visible(false);
+    s.render(&ctx, &targets.targets(), &camera, None).unwrap();
+    let without = drawn(&ctx, &targets, bg);
+    assert!(
+        without > 0 && without < with,
+        "head {without}, head and hair {with}"
+    );
+    s.set_hair_visible(true);
+
+    // A live setting: the volume's memory follows its resolution.
+    s.set_technique(&ctx, "volume").unwrap();
+    s.set(&ctx, "volume.resolution=32").unwrap();
+    let small = s.render(&ctx, &targets.targets(), &camera, None).unwrap();
+    s.set(&ctx, "volume.resolution=64").unwrap();
+    let big = s.render(&ctx, &targets.targets(), &camera, None).unwrap();
+    let ratio = big.memory.volumes as f64 / small.memory.volumes as f64;
+    assert!((7.0..9.0).contains(&ratio), "volume bytes ratio {ratio}");
+
+    // Bad settings are errors that change nothing.
+    let before = s.scene().clone();
+    assert!(s.set(&ctx, "volume.steps=0").is_err());
+    assert!(s.set(&ctx, "volume.nonsense=1").is_err());
+    assert!(s.set_technique(&ctx, "raytraced").is_err());
+    assert_eq!(s.technique(), "volume");
+    assert_eq!(s.scene().camera.eye, before.camera.eye);
+    s.render(&ctx, &targets.targets(), &camera, None).unwrap();
+
+    // Reloading the hair with a different strand ratio changes the geometry.
+    s.set_technique(&ctx, "strands").unwrap();
+    let a = s.render(&ctx, &targets.targets(), &camera, None).unwrap();
+    s.set(&ctx, "hair.0.strand_ratio=0.01").unwrap();
+    let b = s.render(&ctx, &targets.targets(), &camera, None).unwrap();
+    assert!(b.memory.geometry > a.memory.geometry);
+}
+
+#[test]
+fn satf_without_a_database_is_a_clear_error() {
+    let Some(ctx) = common::gpu() else { return };
+    let (scene, _) = scene_from_inputs(&[]).unwrap();
+    let options = SessionOptions {
+        overrides: vec!["hair.0.strand_ratio=0.005".into()],
+        ..SessionOptions::default()
+    };
+    let mut s = Session::new(&ctx, TargetFormats::default(), scene, options).unwrap();
+    let e = s.set_technique(&ctx, "satf").unwrap_err().to_string();
+    assert!(e.contains("database"), "{e}");
+    assert_eq!(s.technique(), "strands");
+}
