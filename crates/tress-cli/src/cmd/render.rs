@@ -16,7 +16,6 @@ use tress_scene::Scene;
 
 use crate::progress;
 
-
 /// Techniques `render` can run today.
 const IMPLEMENTED: &[&str] = &["strands", "volume", "hybrid", "patches", "satf"];
 

@@ -368,7 +368,11 @@ impl SatfGeometry {
 
     /// Bytes of the map atlas textures (re/α maps, s-maps, visibility, l-maps).
     pub fn atlas_bytes(&self) -> u64 {
-        self.atlas.textures.iter().map(crate::gpu::texture_bytes).sum()
+        self.atlas
+            .textures
+            .iter()
+            .map(crate::gpu::texture_bytes)
+            .sum()
     }
 }
 
