@@ -157,7 +157,7 @@ macro_rules! lines_body {
 }
 
 /// A tick label: whole numbers plainly, fractions with up to three significant digits.
-fn tick(v: f64) -> String {
+pub(crate) fn tick(v: f64) -> String {
     if (v - v.round()).abs() < 1e-9 && v.abs() < 1e9 {
         format!("{}", v.round() as i64)
     } else {

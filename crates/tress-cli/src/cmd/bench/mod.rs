@@ -21,6 +21,7 @@ use tress_render::session::{Session, SessionOptions};
 use tress_render::{COLOR_FORMAT, GpuContext, OffscreenTargets, TargetFormats};
 use tress_scene::Scene;
 
+use self::chart::tick;
 use self::measure::{camera_at, measure};
 use self::report::Row;
 use self::sweeps::{SWEEPS, Sweep, sweep};
@@ -190,7 +191,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
                     sw.name,
                     i + 1,
                     sw.points.len(),
-                    p.x,
+                    tick(p.x),
                     info.name
                 ));
                 let result = (|| -> Result<_> {
@@ -209,13 +210,13 @@ pub(crate) fn run(args: Args) -> Result<()> {
                     Ok(m) => eprintln!(
                         "{} {t} x={}: {:.2} ms ({}), coverage {:.2}%, {}",
                         sw.name,
-                        p.x,
+                        tick(p.x),
                         m.frame_ms,
                         m.timing.name(),
                         m.coverage_pct,
                         m.memory
                     ),
-                    Err(e) => eprintln!("{} {t} x={}: failed: {e}", sw.name, p.x),
+                    Err(e) => eprintln!("{} {t} x={}: failed: {e}", sw.name, tick(p.x)),
                 }
                 rows.push(Row {
                     technique: t,

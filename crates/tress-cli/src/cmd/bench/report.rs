@@ -5,7 +5,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 
-use super::chart::{BarChart, LineChart, Series, bar_chart, line_chart};
+use super::chart::{BarChart, LineChart, Series, bar_chart, line_chart, tick};
 use super::measure::Measurement;
 use super::sweeps::Sweep;
 
@@ -282,7 +282,7 @@ pub(crate) fn markdown(h: &Header<'_>, sweeps: &[(Sweep, Vec<Row>, Vec<String>)]
                         md,
                         "| {} | {} | {:.2} | {} | {:.1} | {:.2} | {:.1} |",
                         r.technique,
-                        r.x,
+                        tick(r.x),
                         m.frame_ms,
                         m.timing.name(),
                         m.wall_ms,
@@ -291,7 +291,13 @@ pub(crate) fn markdown(h: &Header<'_>, sweeps: &[(Sweep, Vec<Row>, Vec<String>)]
                     );
                 }
                 Err(e) => {
-                    let _ = writeln!(md, "| {} | {} | failed: {} | | | | |", r.technique, r.x, e);
+                    let _ = writeln!(
+                        md,
+                        "| {} | {} | failed: {} | | | | |",
+                        r.technique,
+                        tick(r.x),
+                        e
+                    );
                 }
             }
         }
