@@ -10,8 +10,16 @@
 //! [`compose`] replaces such lines by the included file's (recursively composed) text, each file
 //! at most once per composed module, so shared modules can include what they need without
 //! duplicate definitions. Nothing else is preprocessed: what a pass runs is plain WGSL.
+//!
+//! **Reloading from disk.** [`set_source_dir`] makes every pipeline created from then on read the
+//! WGSL files from a folder laid out like this crate's `src/` (a checkout's, see
+//! [`checkout_source_dir`]) instead of the embedded copies: a viewer rebuilds its renderers after
+//! setting it to see shader edits without recompiling. Embedded sources stay the default.
 
+use std::borrow::Cow;
 use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+use std::sync::RwLock;
 
 use crate::RenderError;
 
@@ -132,20 +140,74 @@ pub const ENTRY_MODULES: &[&str] = &[
     "patches/patch_head.wgsl",
 ];
 
-/// The source of the file at `path`, if the crate has it.
+/// The embedded source of the file at `path`, if the crate has it.
 pub fn source(path: &str) -> Option<&'static str> {
     SOURCES.iter().find(|(p, _)| *p == path).map(|(_, s)| *s)
 }
 
+static SOURCE_DIR: RwLock<Option<PathBuf>> = RwLock::new(None);
+
+/// Read WGSL from `dir` (laid out like this crate's `src/`) for pipelines created from now on,
+/// or from the embedded copies again with `None`. Process-wide.
+pub fn set_source_dir(dir: Option<PathBuf>) {
+    if let Ok(mut d) = SOURCE_DIR.write() {
+        *d = dir;
+    }
+}
+
+/// The folder set with [`set_source_dir`], if any.
+pub fn source_dir() -> Option<PathBuf> {
+    SOURCE_DIR.read().ok().and_then(|d| d.clone())
+}
+
+/// This crate's `src/` folder when the program runs on the machine it was built on from a
+/// checkout (the folder still exists and holds the shaders), else `None`.
+pub fn checkout_source_dir() -> Option<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    dir.join("shaders/common/camera.wgsl")
+        .is_file()
+        .then_some(dir)
+}
+
+/// Where a module's file lies below the crate's `src/` (`common/` lives in `shaders/`).
+fn file_below_src(path: &str) -> PathBuf {
+    if path.starts_with("common/") {
+        Path::new("shaders").join(path)
+    } else {
+        PathBuf::from(path)
+    }
+}
+
+/// The source of `path`: from the folder of [`set_source_dir`] when set, else embedded.
+fn current_source(module: &str, path: &str) -> Result<Cow<'static, str>, RenderError> {
+    let embedded = source(path).ok_or_else(|| RenderError::Shader {
+        module: module.to_string(),
+        message: if module == path {
+            "no such WGSL module".into()
+        } else {
+            format!("includes unknown module `{path}`")
+        },
+    })?;
+    match source_dir() {
+        None => Ok(Cow::Borrowed(embedded)),
+        Some(dir) => {
+            let file = dir.join(file_below_src(path));
+            std::fs::read_to_string(&file)
+                .map(Cow::Owned)
+                .map_err(|e| RenderError::Shader {
+                    module: path.to_string(),
+                    message: format!("reading {}: {e}", file.display()),
+                })
+        }
+    }
+}
+
 /// The composed text of the crate's module at `path` (see the module docs).
 pub fn compose(path: &str) -> Result<String, RenderError> {
-    let src = source(path).ok_or_else(|| RenderError::Shader {
-        module: path.to_string(),
-        message: "no such WGSL module".into(),
-    })?;
+    let src = current_source(path, path)?;
     let mut seen = HashSet::from([path.to_string()]);
     let mut out = String::new();
-    expand(path, src, &mut seen, &mut out)?;
+    expand(path, &src, &mut seen, &mut out)?;
     Ok(out)
 }
 
@@ -181,12 +243,9 @@ fn expand(
         if !seen.insert(target.to_string()) {
             continue;
         }
-        let inc = source(target).ok_or_else(|| RenderError::Shader {
-            module: name.to_string(),
-            message: format!("includes unknown module `{target}`"),
-        })?;
+        let inc = current_source(name, target)?;
         out.push_str(&format!("// ---- begin {target}\n"));
-        expand(target, inc, seen, out)?;
+        expand(target, &inc, seen, out)?;
         out.push_str(&format!("// ---- end {target}\n"));
     }
     Ok(())
@@ -229,6 +288,46 @@ mod tests {
         assert!(e.to_string().contains("nope.wgsl"));
         assert!(compose_source("t", "#include nope\n").is_err());
         assert!(compose("missing.wgsl").is_err());
+    }
+
+    #[test]
+    fn every_embedded_file_is_found_in_the_checkout() {
+        let dir = checkout_source_dir().expect("tests run from the checkout");
+        for (path, text) in SOURCES {
+            let file = dir.join(file_below_src(path));
+            let on_disk = std::fs::read_to_string(&file)
+                .unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+            assert_eq!(on_disk, *text, "{path}");
+        }
+    }
+
+    #[test]
+    fn a_source_folder_replaces_the_embedded_text_until_reset() {
+        let src = checkout_source_dir().unwrap();
+        let dir = std::env::temp_dir().join(format!("tress-shaders-{}", std::process::id()));
+        for (path, _) in SOURCES {
+            let to = dir.join(file_below_src(path));
+            std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+            std::fs::copy(src.join(file_below_src(path)), &to).unwrap();
+        }
+        let camera = dir.join("shaders/common/camera.wgsl");
+        let mut text = std::fs::read_to_string(&camera).unwrap();
+        text.push_str("// edited on disk\n");
+        std::fs::write(&camera, text).unwrap();
+        set_source_dir(Some(dir.clone()));
+        let edited = compose("head/head_pass.wgsl");
+        std::fs::remove_file(dir.join("lod_blend.wgsl")).unwrap();
+        let missing = compose("lod_blend.wgsl");
+        set_source_dir(None);
+        assert!(edited.unwrap().contains("// edited on disk"));
+        let e = missing.unwrap_err().to_string();
+        assert!(e.contains("lod_blend.wgsl"), "{e}");
+        assert!(
+            !compose("head/head_pass.wgsl")
+                .unwrap()
+                .contains("// edited on disk")
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
