@@ -1,7 +1,8 @@
 //! The GPU core: context and capability checks, render targets, readback to PNG/EXR, timestamp
-//! queries and the GPU-visible struct types.
+//! queries, the GPU-visible struct types and the pipeline builders the passes share.
 
 mod context;
+pub(crate) mod pipeline;
 mod readback;
 mod target;
 mod timer;

@@ -1,5 +1,6 @@
 //! The opaque head mesh: plain input ([`HeadMesh`]), its GPU upload ([`HeadGeometry`]) and the pass
-//! that draws it first with depth writes ([`HeadPass`]).
+//! that draws it first with depth writes ([`HeadPass`]; every technique's head shares its pipeline,
+//! `HeadPipeline`).
 
 mod head_pass;
 
@@ -7,6 +8,7 @@ use glam::Vec3;
 use wgpu::util::DeviceExt;
 
 pub use head_pass::HeadPass;
+pub(crate) use head_pass::HeadPipeline;
 
 use crate::gpu::types::HeadVertex;
 use crate::{GpuContext, RenderError};

@@ -2,17 +2,16 @@
 
 use super::cluster_shadow::ShadowTargets;
 use super::passes::{Slot, group, layout, pipeline_layout};
-use crate::gpu::DEPTH_FORMAT;
-use crate::head::{HEAD_VERTEX_LAYOUT, HeadGeometry};
+use crate::head::{HeadGeometry, HeadPipeline};
 use crate::{GpuContext, RenderError, shaders};
 
 /// Draws the opaque head first with depth writes, lit by Lambert with the clusters' shadows. The
 /// SATF technique has its own head pass because the strand technique's reads that technique's
-/// lighting group.
+/// lighting group; the pipeline is the shared `HeadPipeline`.
 #[derive(Debug)]
 pub struct SatfHead {
     layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::RenderPipeline,
+    pipeline: HeadPipeline,
 }
 
 impl SatfHead {
@@ -35,35 +34,7 @@ impl SatfHead {
                 ],
             );
             let pl = pipeline_layout(ctx, "satf/head/pipeline-layout", &layout);
-            let pipeline = ctx
-                .device
-                .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some("satf/head/pipeline"),
-                    layout: Some(&pl),
-                    vertex: wgpu::VertexState {
-                        module: &module,
-                        entry_point: Some("vs_main"),
-                        compilation_options: Default::default(),
-                        buffers: &[Some(HEAD_VERTEX_LAYOUT)],
-                    },
-                    primitive: wgpu::PrimitiveState::default(),
-                    depth_stencil: Some(wgpu::DepthStencilState {
-                        format: DEPTH_FORMAT,
-                        depth_write_enabled: Some(true),
-                        depth_compare: Some(wgpu::CompareFunction::Less),
-                        stencil: Default::default(),
-                        bias: Default::default(),
-                    }),
-                    multisample: Default::default(),
-                    fragment: Some(wgpu::FragmentState {
-                        module: &module,
-                        entry_point: Some("fs_main"),
-                        compilation_options: Default::default(),
-                        targets: &[Some(color_format.into())],
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                });
+            let pipeline = HeadPipeline::new(ctx, "satf/head/pipeline", &module, &pl, color_format);
             SatfHead { layout, pipeline }
         })
     }
@@ -91,9 +62,6 @@ impl SatfHead {
             ],
         );
         pass.set_bind_group(0, &bind, &[]);
-        pass.set_pipeline(&self.pipeline);
-        pass.set_vertex_buffer(0, head.vertices.slice(..));
-        pass.set_index_buffer(head.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..head.index_count, 0, 0..1);
+        self.pipeline.draw(pass, head);
     }
 }
