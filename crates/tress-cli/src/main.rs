@@ -42,6 +42,9 @@ enum Command {
     Compare(cmd::compare::Args),
     /// Bake the SATF technique's HRIR database (Xu et al. 2006), or check one with --check.
     SatfBake(cmd::satf_bake::Args),
+    /// Open the interactive viewer on a scene, hair files or the demo: orbit, switch
+    /// techniques, change settings, see per-pass timings and GPU memory.
+    View(cmd::view::Args),
 }
 
 fn main() -> ExitCode {
@@ -57,6 +60,7 @@ fn main() -> ExitCode {
         Command::Render(a) => cmd::render::run(a),
         Command::Compare(a) => cmd::compare::run(a),
         Command::SatfBake(a) => cmd::satf_bake::run(a),
+        Command::View(a) => cmd::view::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -12,3 +12,4 @@ pub(crate) mod reference;
 pub(crate) mod render;
 pub(crate) mod render_satf;
 pub(crate) mod satf_bake;
+pub(crate) mod view;
