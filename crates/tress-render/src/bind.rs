@@ -1,4 +1,5 @@
-//! Bind group layouts shared by several passes.
+//! Bind group layouts shared by several passes, and the builders of layout entries, layouts and
+//! bind groups that every pass uses.
 //!
 //! | group | layout | contents |
 //! | --- | --- | --- |
@@ -7,7 +8,7 @@
 //! | 2 | `strands` | strand vertices and segments (vertex pulling; the voxelizer's compute passes) |
 //! | 3 | pass-specific | e.g. the PPLL buffers of the build pass |
 
-use crate::MAX_LIGHTS;
+use crate::{GpuContext, MAX_LIGHTS};
 
 /// The shared layouts, created once per renderer.
 #[derive(Debug)]
@@ -21,17 +22,47 @@ const VF: wgpu::ShaderStages = wgpu::ShaderStages::VERTEX_FRAGMENT;
 const VERTEX_COMPUTE: wgpu::ShaderStages =
     wgpu::ShaderStages::VERTEX.union(wgpu::ShaderStages::COMPUTE);
 
-pub(crate) fn uniform(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+/// A layout entry: `ty` at `binding`, visible to `visibility`, not an array.
+pub(crate) fn entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    ty: wgpu::BindingType,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
+        ty,
         count: None,
     }
+}
+
+/// A buffer binding of `ty`, without dynamic offset or minimum size.
+pub(crate) fn buffer_type(ty: wgpu::BufferBindingType) -> wgpu::BindingType {
+    wgpu::BindingType::Buffer {
+        ty,
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    }
+}
+
+/// A single-sampled texture binding.
+pub(crate) fn texture_type(
+    sample_type: wgpu::TextureSampleType,
+    view_dimension: wgpu::TextureViewDimension,
+) -> wgpu::BindingType {
+    wgpu::BindingType::Texture {
+        sample_type,
+        view_dimension,
+        multisampled: false,
+    }
+}
+
+pub(crate) fn uniform(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    entry(
+        binding,
+        visibility,
+        buffer_type(wgpu::BufferBindingType::Uniform),
+    )
 }
 
 pub(crate) fn storage(
@@ -39,60 +70,95 @@ pub(crate) fn storage(
     visibility: wgpu::ShaderStages,
     read_only: bool,
 ) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
+    entry(
         binding,
         visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
+        buffer_type(wgpu::BufferBindingType::Storage { read_only }),
+    )
+}
+
+const UNFILTERABLE: wgpu::TextureSampleType = wgpu::TextureSampleType::Float { filterable: false };
+const FILTERABLE: wgpu::TextureSampleType = wgpu::TextureSampleType::Float { filterable: true };
+const D2: wgpu::TextureViewDimension = wgpu::TextureViewDimension::D2;
+
+/// A 2D float texture read with `textureLoad` (not filterable, so `r32float` is allowed too).
+pub(crate) fn texture_2d(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    entry(binding, visibility, texture_type(UNFILTERABLE, D2))
+}
+
+/// A 2D float texture sampled with filtering.
+pub(crate) fn filterable_texture_2d(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    entry(binding, visibility, texture_type(FILTERABLE, D2))
 }
 
 pub(crate) fn depth_texture(
     binding: u32,
     visibility: wgpu::ShaderStages,
 ) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
+    entry(
         binding,
         visibility,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Depth,
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    }
+        texture_type(wgpu::TextureSampleType::Depth, D2),
+    )
 }
 
 pub(crate) fn texture_3d(
     binding: u32,
     visibility: wgpu::ShaderStages,
 ) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
+    entry(
         binding,
         visibility,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: true },
-            view_dimension: wgpu::TextureViewDimension::D3,
-            multisampled: false,
-        },
-        count: None,
-    }
+        texture_type(FILTERABLE, wgpu::TextureViewDimension::D3),
+    )
 }
 
 pub(crate) fn filtering_sampler(
     binding: u32,
     visibility: wgpu::ShaderStages,
 ) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-        count: None,
-    }
+    let filtering = wgpu::SamplerBindingType::Filtering;
+    entry(binding, visibility, wgpu::BindingType::Sampler(filtering))
+}
+
+/// A bind group layout of `entries`.
+pub(crate) fn bind_group_layout(
+    ctx: &GpuContext,
+    label: &str,
+    entries: &[wgpu::BindGroupLayoutEntry],
+) -> wgpu::BindGroupLayout {
+    ctx.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries,
+        })
+}
+
+/// A bind group of `entries` (`(binding, resource)`).
+pub(crate) fn bind_group(
+    ctx: &GpuContext,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    entries: &[(u32, wgpu::BindingResource<'_>)],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = entries
+        .iter()
+        .map(|(binding, resource)| wgpu::BindGroupEntry {
+            binding: *binding,
+            resource: resource.clone(),
+        })
+        .collect();
+    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
 }
 
 impl Layouts {

@@ -23,7 +23,8 @@ use std::str::FromStr;
 
 use glam::Vec3;
 
-use crate::bind::uniform;
+use crate::bind::{bind_group, bind_group_layout, texture_2d, uniform};
+use crate::gpu::pipeline::{RasterPipeline, over_color_pass, pipeline_layout, premultiplied_over};
 use crate::gpu::types::LodParams;
 use crate::strands::StrandSettings;
 use crate::volume::{ShadowMode, VolumeSettings};
@@ -317,64 +318,22 @@ impl LodBlend {
         let module = shaders::create_module(ctx, "lod_blend.wgsl", "lod/lod_blend/shader")?;
         ctx.scoped("creating the LOD blend pipeline", || {
             let fragment = wgpu::ShaderStages::FRAGMENT;
-            let texture = |binding| wgpu::BindGroupLayoutEntry {
-                binding,
-                visibility: fragment,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            };
-            let layout = ctx
-                .device
-                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("lod/lod_blend/layout"),
-                    entries: &[texture(0), texture(1), uniform(2, fragment)],
-                });
+            let layout = bind_group_layout(
+                ctx,
+                "lod/lod_blend/layout",
+                &[
+                    texture_2d(0, fragment),
+                    texture_2d(1, fragment),
+                    uniform(2, fragment),
+                ],
+            );
             let pipeline_layout =
-                ctx.device
-                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                        label: Some("lod/lod_blend/pipeline-layout"),
-                        bind_group_layouts: &[Some(&layout)],
-                        immediate_size: 0,
-                    });
-            let premultiplied = wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
-                operation: wgpu::BlendOperation::Add,
-            };
-            let pipeline = ctx
-                .device
-                .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some("lod/lod_blend/pipeline"),
-                    layout: Some(&pipeline_layout),
-                    vertex: wgpu::VertexState {
-                        module: &module,
-                        entry_point: Some("vs_main"),
-                        compilation_options: Default::default(),
-                        buffers: &[],
-                    },
-                    primitive: Default::default(),
-                    depth_stencil: None,
-                    multisample: Default::default(),
-                    fragment: Some(wgpu::FragmentState {
-                        module: &module,
-                        entry_point: Some("fs_main"),
-                        compilation_options: Default::default(),
-                        targets: &[Some(wgpu::ColorTargetState {
-                            format: color_format,
-                            blend: Some(wgpu::BlendState {
-                                color: premultiplied,
-                                alpha: premultiplied,
-                            }),
-                            write_mask: wgpu::ColorWrites::ALL,
-                        })],
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                });
+                pipeline_layout(ctx, "lod/lod_blend/pipeline-layout", &[Some(&layout)]);
+            let pipeline = RasterPipeline {
+                targets: &[Some(premultiplied_over(color_format))],
+                ..RasterPipeline::new("lod/lod_blend/pipeline", &pipeline_layout, &module)
+            }
+            .create(ctx);
             let params = ctx.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("lod/lod_blend/params"),
                 size: std::mem::size_of::<LodParams>() as u64,
@@ -409,40 +368,17 @@ impl LodBlend {
         };
         ctx.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-        let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("lod/lod_blend/bind-group"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&layers.strands),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&layers.volume),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: self.params.as_entire_binding(),
-                },
+        let group = bind_group(
+            ctx,
+            "lod/lod_blend/bind-group",
+            &self.layout,
+            &[
+                (0, wgpu::BindingResource::TextureView(&layers.strands)),
+                (1, wgpu::BindingResource::TextureView(&layers.volume)),
+                (2, self.params.as_entire_binding()),
             ],
-        });
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("lod/lod_blend/pass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: color,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: timestamps,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        );
+        let mut pass = over_color_pass(encoder, "lod/lod_blend/pass", color, timestamps);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &group, &[]);
         pass.draw(0..3, 0..1);

@@ -1,5 +1,6 @@
-//! Builders for what every pass creates the same way: pipeline layouts, render pipelines (a
-//! vertex and an optional fragment stage of one module) and the depth test.
+//! Builders for what every pass creates the same way: pipeline layouts, compute pipelines, render
+//! pipelines (a vertex and an optional fragment stage of one module), the depth test, the
+//! premultiplied "over" color target and a render pass that draws over a loaded color target.
 //! Each pass keeps only what is specific to it: its shader, bind groups, entry points, vertex
 //! buffers, culling, depth and color states.
 
@@ -20,6 +21,25 @@ pub(crate) fn pipeline_layout(
         })
 }
 
+/// The compute pipeline of `module`'s `entry` over `layout`.
+pub(crate) fn compute_pipeline(
+    ctx: &GpuContext,
+    label: &str,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+    layout: &wgpu::PipelineLayout,
+) -> wgpu::ComputePipeline {
+    ctx.device
+        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(label),
+            layout: Some(layout),
+            module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+}
+
 /// Depth test `compare` against [`DEPTH_FORMAT`], writing depth or not; no stencil, no bias.
 pub(crate) fn depth_test(write: bool, compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
     wgpu::DepthStencilState {
@@ -28,6 +48,16 @@ pub(crate) fn depth_test(write: bool, compare: wgpu::CompareFunction) -> wgpu::D
         depth_compare: Some(compare),
         stencil: Default::default(),
         bias: Default::default(),
+    }
+}
+
+/// A color target that composites premultiplied color over what it holds
+/// (`src + (1 − src.a) · dst`, color and alpha alike).
+pub(crate) fn premultiplied_over(format: wgpu::TextureFormat) -> wgpu::ColorTargetState {
+    wgpu::ColorTargetState {
+        format,
+        blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+        write_mask: wgpu::ColorWrites::ALL,
     }
 }
 
@@ -91,4 +121,29 @@ impl<'a> RasterPipeline<'a> {
                 cache: None,
             })
     }
+}
+
+/// A render pass that loads `color`, draws over it and stores it (no depth attachment).
+pub(crate) fn over_color_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    color: &wgpu::TextureView,
+    timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: color,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Load,
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: timestamps,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
 }

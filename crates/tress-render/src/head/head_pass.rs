@@ -70,8 +70,6 @@ impl HeadPipeline {
     /// Record the head draw into an open render pass (its bind groups already set).
     pub(crate) fn draw(&self, pass: &mut wgpu::RenderPass<'_>, head: &HeadGeometry) {
         pass.set_pipeline(&self.0);
-        pass.set_vertex_buffer(0, head.vertices.slice(..));
-        pass.set_index_buffer(head.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..head.index_count, 0, 0..1);
+        head.draw(pass);
     }
 }

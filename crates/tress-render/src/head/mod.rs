@@ -122,6 +122,14 @@ impl HeadGeometry {
         self.vertices.size() + self.indices.size()
     }
 
+    /// Record the draw of every triangle into an open render pass (pipeline and bind groups
+    /// already set).
+    pub(crate) fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..self.index_count, 0, 0..1);
+    }
+
     /// Validate and upload a mesh.
     pub fn new(ctx: &GpuContext, mesh: &HeadMesh) -> Result<Self, RenderError> {
         mesh.validate()?;

@@ -105,6 +105,7 @@ use tress_hair::patches::TextureParams;
 use tress_shading::HairLighting;
 
 use crate::RenderError;
+use crate::bind::{filterable_texture_2d, filtering_sampler, uniform};
 use crate::gpu::types::{HairLightingGpu, PatchParamsGpu};
 
 /// Names of the timed passes, in frame order (a 3-pass frame has no `patches/z_prime`).
@@ -242,16 +243,7 @@ pub(crate) struct PatchLayouts {
 impl PatchLayouts {
     pub(crate) fn new(device: &wgpu::Device) -> Self {
         let fragment = wgpu::ShaderStages::FRAGMENT;
-        let texture = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: fragment,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        };
+        let texture = |binding| filterable_texture_2d(binding, fragment);
         let view = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("patches/view/layout"),
             entries: &[uniform(0, wgpu::ShaderStages::VERTEX_FRAGMENT)],
@@ -268,12 +260,7 @@ impl PatchLayouts {
                 texture(2),
                 texture(3),
                 texture(4),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 5,
-                    visibility: fragment,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
+                filtering_sampler(5, fragment),
             ],
         });
         PatchLayouts {
@@ -281,19 +268,6 @@ impl PatchLayouts {
             lights,
             material,
         }
-    }
-}
-
-fn uniform(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
     }
 }
 

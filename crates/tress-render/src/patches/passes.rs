@@ -9,6 +9,7 @@ use std::str::FromStr;
 
 use crate::RenderError;
 use crate::gpu::DEPTH_FORMAT;
+use crate::gpu::pipeline::RasterPipeline;
 
 /// Which of the slides' two schemes draws the patches.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -300,28 +301,15 @@ pub(crate) fn create_pipeline(
     shader: &wgpu::ShaderModule,
     parts: &PatchPipelineParts,
 ) -> wgpu::RenderPipeline {
-    ctx.device
-        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(&parts.label),
-            layout: Some(layout),
-            vertex: wgpu::VertexState {
-                module: shader,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(super::geometry::PATCH_VERTEX_LAYOUT)],
-            },
-            primitive: parts.primitive,
-            depth_stencil: Some(parts.depth_stencil.clone()),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: shader,
-                entry_point: Some(parts.fragment_entry),
-                compilation_options: Default::default(),
-                targets: &[Some(parts.color_target.clone())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
+    RasterPipeline {
+        buffers: &[Some(super::geometry::PATCH_VERTEX_LAYOUT)],
+        primitive: parts.primitive,
+        depth_stencil: Some(parts.depth_stencil.clone()),
+        fragment_entry: Some(parts.fragment_entry),
+        targets: &[Some(parts.color_target.clone())],
+        ..RasterPipeline::new(&parts.label, layout, shader)
+    }
+    .create(ctx)
 }
 
 #[cfg(test)]

@@ -3,6 +3,7 @@
 use super::PatchGeometry;
 use super::PatchLayouts;
 use super::passes::{PassShader, PatchPass, create_pipeline};
+use crate::gpu::pipeline::pipeline_layout;
 use crate::{GpuContext, RenderError, shaders};
 
 /// The full `HairLighting` shader in the render states of a scheme's shading passes: opaque
@@ -27,17 +28,15 @@ impl PatchShade {
             "patches/patch_shade/shader",
         )?;
         ctx.scoped("creating the patch shading pipelines", || {
-            let layout = ctx
-                .device
-                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                    label: Some("patches/patch_shade/layout"),
-                    bind_group_layouts: &[
-                        Some(&layouts.view),
-                        Some(&layouts.lights),
-                        Some(&layouts.material),
-                    ],
-                    immediate_size: 0,
-                });
+            let layout = pipeline_layout(
+                ctx,
+                "patches/patch_shade/layout",
+                &[
+                    Some(&layouts.view),
+                    Some(&layouts.lights),
+                    Some(&layouts.material),
+                ],
+            );
             let pipelines = passes
                 .iter()
                 .filter(|p| p.shader == PassShader::Full)

@@ -3,6 +3,7 @@
 use super::PatchGeometry;
 use super::PatchLayouts;
 use super::passes::{FOUR_PASS, PassShader, create_pipeline};
+use crate::gpu::pipeline::pipeline_layout;
 use crate::{GpuContext, RenderError, shaders};
 
 /// Primes the depth buffer with the opaque parts of the patches (alpha test, no culling, color
@@ -26,13 +27,11 @@ impl ZPrime {
         let parts = pass.pipeline_parts(color_format);
         let module = shaders::create_module(ctx, parts.module, "patches/z_prime/shader")?;
         ctx.scoped("creating the patch Z-prime pipeline", || {
-            let layout = ctx
-                .device
-                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                    label: Some("patches/z_prime/layout"),
-                    bind_group_layouts: &[Some(&layouts.view), None, Some(&layouts.material)],
-                    immediate_size: 0,
-                });
+            let layout = pipeline_layout(
+                ctx,
+                "patches/z_prime/layout",
+                &[Some(&layouts.view), None, Some(&layouts.material)],
+            );
             ZPrime {
                 pipeline: create_pipeline(ctx, &layout, &module, &parts),
             }

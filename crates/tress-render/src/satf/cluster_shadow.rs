@@ -4,8 +4,10 @@
 use wgpu::util::DeviceExt;
 
 use super::SatfGeometry;
-use super::passes::{Slot, group, layout, pipeline_layout};
+use super::passes::{Slot, layout};
+use crate::bind::bind_group;
 use crate::gpu::DEPTH_FORMAT;
+use crate::gpu::pipeline::{RasterPipeline, depth_test, pipeline_layout};
 use crate::gpu::types::CameraUniform;
 use crate::head::{HEAD_VERTEX_LAYOUT, HeadGeometry};
 use crate::{GpuContext, MAX_LIGHTS, RenderError, shaders};
@@ -116,36 +118,20 @@ impl ClusterShadow {
                 wgpu::ShaderStages::VERTEX,
                 &[(0, Slot::Uniform), (1, Slot::Uniform)],
             );
-            let pl = pipeline_layout(ctx, "satf/cluster_shadow/pipeline-layout", &group_layout);
+            let pl = pipeline_layout(
+                ctx,
+                "satf/cluster_shadow/pipeline-layout",
+                &[Some(&group_layout)],
+            );
             let pipeline = |label: &str, entry: &str, buffer: wgpu::VertexBufferLayout<'static>| {
-                ctx.device
-                    .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                        label: Some(label),
-                        layout: Some(&pl),
-                        vertex: wgpu::VertexState {
-                            module: &module,
-                            entry_point: Some(entry),
-                            compilation_options: Default::default(),
-                            buffers: &[Some(buffer)],
-                        },
-                        primitive: wgpu::PrimitiveState::default(),
-                        depth_stencil: Some(wgpu::DepthStencilState {
-                            format: DEPTH_FORMAT,
-                            depth_write_enabled: Some(true),
-                            depth_compare: Some(wgpu::CompareFunction::Less),
-                            stencil: Default::default(),
-                            bias: Default::default(),
-                        }),
-                        multisample: Default::default(),
-                        fragment: Some(wgpu::FragmentState {
-                            module: &module,
-                            entry_point: Some("fs_main"),
-                            compilation_options: Default::default(),
-                            targets: &[Some(wgpu::TextureFormat::R32Uint.into())],
-                        }),
-                        multiview_mask: None,
-                        cache: None,
-                    })
+                RasterPipeline {
+                    vertex_entry: entry,
+                    buffers: &[Some(buffer)],
+                    depth_stencil: Some(depth_test(true, wgpu::CompareFunction::Less)),
+                    targets: &[Some(wgpu::TextureFormat::R32Uint.into())],
+                    ..RasterPipeline::new(label, &pl, &module)
+                }
+                .create(ctx)
             };
             let layer_pipeline = pipeline(
                 "satf/cluster_shadow/layer-pipeline",
@@ -166,7 +152,7 @@ impl ClusterShadow {
                             contents: bytemuck::bytes_of(&CameraUniform::default()),
                             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                         });
-                    let bind = group(
+                    let bind = bind_group(
                         ctx,
                         &format!("satf/cluster_shadow/bind-group-{i}"),
                         &group_layout,
@@ -229,9 +215,7 @@ impl ClusterShadow {
             pass.set_bind_group(0, &self.cameras[i].1, &[]);
             if let Some(head) = head {
                 pass.set_pipeline(&self.head_pipeline);
-                pass.set_vertex_buffer(0, head.vertices.slice(..));
-                pass.set_index_buffer(head.indices.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..head.index_count, 0, 0..1);
+                head.draw(&mut pass);
             }
             if let Some(g) = geometry.filter(|g| g.layout.clusters > 0) {
                 let l = &g.layout;

@@ -1,7 +1,9 @@
 //! [`SatfHead`], owner of `head.wgsl`.
 
 use super::cluster_shadow::ShadowTargets;
-use super::passes::{Slot, group, layout, pipeline_layout};
+use super::passes::{Slot, layout};
+use crate::bind::bind_group;
+use crate::gpu::pipeline::pipeline_layout;
 use crate::head::{HeadGeometry, HeadPipeline};
 use crate::{GpuContext, RenderError, shaders};
 
@@ -33,7 +35,7 @@ impl SatfHead {
                     (12, Slot::UintArray),
                 ],
             );
-            let pl = pipeline_layout(ctx, "satf/head/pipeline-layout", &layout);
+            let pl = pipeline_layout(ctx, "satf/head/pipeline-layout", &[Some(&layout)]);
             let pipeline = HeadPipeline::new(ctx, "satf/head/pipeline", &module, &pl, color_format);
             SatfHead { layout, pipeline }
         })
@@ -49,7 +51,7 @@ impl SatfHead {
         head: &HeadGeometry,
     ) {
         let [camera, lights, params] = uniforms;
-        let bind = group(
+        let bind = bind_group(
             ctx,
             "satf/head/bind-group",
             &self.layout,

@@ -1,7 +1,9 @@
 //! [`IndexCalc`], owner of `index_calc.wgsl` (Table 1, "index calculation").
 
-use super::passes::{Slot, compute_pipelines, group, groups, layout, pipeline_layout};
+use super::passes::{Slot, compute_pipelines, groups, layout};
 use super::{SatfDatabase, SatfGeometry};
+use crate::bind::bind_group;
+use crate::gpu::pipeline::pipeline_layout;
 use crate::{GpuContext, RenderError};
 
 /// Per boundary sector `Params(b)` and its nearest database sample; per HSV equation 6 and the
@@ -39,20 +41,14 @@ impl IndexCalc {
                 (7, storage(false)),
             ],
         );
-        let pl = pipeline_layout(ctx, "satf/index_calc/pipeline-layout", &layout);
-        let mut p = compute_pipelines(
+        let pl = pipeline_layout(ctx, "satf/index_calc/pipeline-layout", &[Some(&layout)]);
+        let [sectors, hsvs] = compute_pipelines(
             ctx,
             "satf/index_calc.wgsl",
             "satf/index_calc",
             &pl,
-            &["cs_sectors", "cs_hsvs"],
+            ["cs_sectors", "cs_hsvs"],
         )?;
-        let hsvs = p
-            .pop()
-            .ok_or_else(|| RenderError::Invalid("pipeline missing".into()))?;
-        let sectors = p
-            .pop()
-            .ok_or_else(|| RenderError::Invalid("pipeline missing".into()))?;
         Ok(IndexCalc {
             layout,
             sectors,
@@ -70,7 +66,7 @@ impl IndexCalc {
         database: &SatfDatabase,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
-        let bind = group(
+        let bind = bind_group(
             ctx,
             "satf/index_calc/bind-group",
             &self.layout,

@@ -2,22 +2,18 @@
 
 use super::SatfGeometry;
 use super::index_calc::Uniforms;
-use super::passes::{Slot, compute_pipelines, group, groups, layout, pipeline_layout};
+use super::passes::{Slot, TilePass};
 use crate::{GpuContext, RenderError};
 
 /// Per texel of every layer, equations 8–11 summed over the lights (§6.3).
 #[derive(Debug)]
-pub struct Lighting {
-    layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::ComputePipeline,
-}
+pub struct Lighting(TilePass);
 
 impl Lighting {
     pub(crate) fn new(ctx: &GpuContext) -> Result<Self, RenderError> {
-        let layout = layout(
+        TilePass::new(
             ctx,
-            "satf/lighting/layout",
-            wgpu::ShaderStages::COMPUTE,
+            "lighting",
             &[
                 (0, Slot::Uniform),
                 (1, Slot::Uniform),
@@ -26,18 +22,8 @@ impl Lighting {
                 (4, Slot::StorageTexture(wgpu::TextureFormat::Rgba16Float)),
                 (10, Slot::Storage { read_only: true }),
             ],
-        );
-        let pl = pipeline_layout(ctx, "satf/lighting/pipeline-layout", &layout);
-        let pipeline = compute_pipelines(
-            ctx,
-            "satf/lighting.wgsl",
-            "satf/lighting",
-            &pl,
-            &["cs_main"],
-        )?
-        .pop()
-        .ok_or_else(|| RenderError::Invalid("pipeline missing".into()))?;
-        Ok(Lighting { layout, pipeline })
+        )
+        .map(Lighting)
     }
 
     /// Record the pass over every texel of every tile.
@@ -50,10 +36,9 @@ impl Lighting {
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
         let a = &geometry.atlas;
-        let bind = group(
+        self.0.encode(
             ctx,
-            "satf/lighting/bind-group",
-            &self.layout,
+            encoder,
             &[
                 (0, u.params.as_entire_binding()),
                 (1, u.camera.as_entire_binding()),
@@ -62,14 +47,8 @@ impl Lighting {
                 (4, wgpu::BindingResource::TextureView(&a.l_map)),
                 (10, geometry.vertices.as_entire_binding()),
             ],
+            &geometry.layout,
+            timestamps,
         );
-        let l = &geometry.layout;
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("satf/lighting/pass"),
-            timestamp_writes: timestamps,
-        });
-        pass.set_bind_group(0, &bind, &[]);
-        pass.set_pipeline(&self.pipeline);
-        pass.dispatch_workgroups(groups(l.tile_width, 8), groups(l.tile_height, 8), l.tiles());
     }
 }

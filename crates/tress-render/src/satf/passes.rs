@@ -1,6 +1,9 @@
-//! Small builders shared by the SATF passes: bind group layouts from a list of slots, bind groups
-//! from a list of resources, compute pipelines, and the atlas textures.
+//! Small builders shared by the SATF passes: bind group layouts from a list of slots, compute
+//! pipelines, the per-texel passes over the atlas tiles ([`TilePass`]), and the atlas textures.
 
+use super::geometry::SatfLayout;
+use crate::bind::{bind_group, bind_group_layout, buffer_type, entry, texture_type};
+use crate::gpu::pipeline::{compute_pipeline, pipeline_layout};
 use crate::{GpuContext, RenderError, shaders};
 
 /// What a binding holds.
@@ -32,111 +35,115 @@ pub(crate) fn layout(
 ) -> wgpu::BindGroupLayout {
     let entries: Vec<wgpu::BindGroupLayoutEntry> = slots
         .iter()
-        .map(|&(binding, slot)| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility,
-            ty: match slot {
-                Slot::Uniform => wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                Slot::Storage { read_only } => wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Storage { read_only },
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                Slot::Texture => wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                Slot::DepthArray => wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Depth,
-                    view_dimension: wgpu::TextureViewDimension::D2Array,
-                    multisampled: false,
-                },
-                Slot::UintArray => wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Uint,
-                    view_dimension: wgpu::TextureViewDimension::D2Array,
-                    multisampled: false,
-                },
+        .map(|&(binding, slot)| {
+            let ty = match slot {
+                Slot::Uniform => buffer_type(wgpu::BufferBindingType::Uniform),
+                Slot::Storage { read_only } => {
+                    buffer_type(wgpu::BufferBindingType::Storage { read_only })
+                }
+                Slot::Texture => texture_type(
+                    wgpu::TextureSampleType::Float { filterable: false },
+                    wgpu::TextureViewDimension::D2,
+                ),
+                Slot::DepthArray => texture_type(
+                    wgpu::TextureSampleType::Depth,
+                    wgpu::TextureViewDimension::D2Array,
+                ),
+                Slot::UintArray => texture_type(
+                    wgpu::TextureSampleType::Uint,
+                    wgpu::TextureViewDimension::D2Array,
+                ),
                 Slot::StorageTexture(format) => wgpu::BindingType::StorageTexture {
                     access: wgpu::StorageTextureAccess::WriteOnly,
                     format,
                     view_dimension: wgpu::TextureViewDimension::D2,
                 },
-            },
-            count: None,
+            };
+            entry(binding, visibility, ty)
         })
         .collect();
-    ctx.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some(label),
-            entries: &entries,
-        })
+    bind_group_layout(ctx, label, &entries)
 }
 
-/// A bind group of `entries` (`(binding, resource)`).
-pub(crate) fn group(
-    ctx: &GpuContext,
-    label: &str,
-    layout: &wgpu::BindGroupLayout,
-    entries: &[(u32, wgpu::BindingResource<'_>)],
-) -> wgpu::BindGroup {
-    let entries: Vec<wgpu::BindGroupEntry<'_>> = entries
-        .iter()
-        .map(|(binding, resource)| wgpu::BindGroupEntry {
-            binding: *binding,
-            resource: resource.clone(),
-        })
-        .collect();
-    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(label),
-        layout,
-        entries: &entries,
-    })
-}
-
-/// A pipeline layout of one bind group layout.
-pub(crate) fn pipeline_layout(
-    ctx: &GpuContext,
-    label: &str,
-    group: &wgpu::BindGroupLayout,
-) -> wgpu::PipelineLayout {
-    ctx.device
-        .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(label),
-            bind_group_layouts: &[Some(group)],
-            immediate_size: 0,
-        })
-}
-
-/// Compute pipelines for `entries` of the crate module `path`, all with `layout`.
-pub(crate) fn compute_pipelines(
+/// Compute pipelines for `entries` of the crate module `path`, all with `layout`, labelled
+/// `{label}/{entry}`.
+pub(crate) fn compute_pipelines<const N: usize>(
     ctx: &GpuContext,
     path: &str,
     label: &str,
     layout: &wgpu::PipelineLayout,
-    entries: &[&str],
-) -> Result<Vec<wgpu::ComputePipeline>, RenderError> {
+    entries: [&str; N],
+) -> Result<[wgpu::ComputePipeline; N], RenderError> {
     let module = shaders::create_module(ctx, path, &format!("{label}/shader"))?;
     ctx.scoped(&format!("creating the {label} pipelines"), || {
         entries
-            .iter()
-            .map(|entry| {
-                ctx.device
-                    .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                        label: Some(&format!("{label}/{entry}")),
-                        layout: Some(layout),
-                        module: &module,
-                        entry_point: Some(entry),
-                        compilation_options: Default::default(),
-                        cache: None,
-                    })
-            })
-            .collect()
+            .map(|entry| compute_pipeline(ctx, &format!("{label}/{entry}"), &module, entry, layout))
     })
+}
+
+/// A compute pass of `satf/{name}.wgsl`'s `cs_main` over every texel of every tile (8 × 8
+/// texels a workgroup, one tile a z slice), with one bind group: what the per-texel passes
+/// ([`super::MapBuild`], [`super::SMaps`], [`super::Lighting`]) share. Labels are
+/// `satf/{name}/…`.
+#[derive(Debug)]
+pub(crate) struct TilePass {
+    name: &'static str,
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+}
+
+impl TilePass {
+    /// The pass `name` with a bind group of `slots`.
+    pub(crate) fn new(
+        ctx: &GpuContext,
+        name: &'static str,
+        slots: &[(u32, Slot)],
+    ) -> Result<Self, RenderError> {
+        let label = format!("satf/{name}");
+        let layout = layout(
+            ctx,
+            &format!("{label}/layout"),
+            wgpu::ShaderStages::COMPUTE,
+            slots,
+        );
+        let pl = pipeline_layout(ctx, &format!("{label}/pipeline-layout"), &[Some(&layout)]);
+        let [pipeline] =
+            compute_pipelines(ctx, &format!("{label}.wgsl"), &label, &pl, ["cs_main"])?;
+        Ok(TilePass {
+            name,
+            layout,
+            pipeline,
+        })
+    }
+
+    /// Record the pass with `entries` bound, over every tile of `tiles`.
+    pub(crate) fn encode(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        entries: &[(u32, wgpu::BindingResource<'_>)],
+        tiles: &SatfLayout,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let name = self.name;
+        let bind = bind_group(
+            ctx,
+            &format!("satf/{name}/bind-group"),
+            &self.layout,
+            entries,
+        );
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(&format!("satf/{name}/pass")),
+            timestamp_writes: timestamps,
+        });
+        pass.set_bind_group(0, &bind, &[]);
+        pass.set_pipeline(&self.pipeline);
+        pass.dispatch_workgroups(
+            groups(tiles.tile_width, 8),
+            groups(tiles.tile_height, 8),
+            tiles.tiles(),
+        );
+    }
 }
 
 /// Workgroups of `size` covering `n` invocations.

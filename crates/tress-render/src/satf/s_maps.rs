@@ -3,23 +3,19 @@
 use super::SatfGeometry;
 use super::cluster_shadow::ShadowTargets;
 use super::index_calc::Uniforms;
-use super::passes::{Slot, compute_pipelines, group, groups, layout, pipeline_layout};
+use super::passes::{Slot, TilePass};
 use crate::{GpuContext, RenderError};
 
 /// Per texel of every layer, the s-map of equation 12 and each light's visibility through the
 /// other clusters (§6.4).
 #[derive(Debug)]
-pub struct SMaps {
-    layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::ComputePipeline,
-}
+pub struct SMaps(TilePass);
 
 impl SMaps {
     pub(crate) fn new(ctx: &GpuContext) -> Result<Self, RenderError> {
-        let layout = layout(
+        TilePass::new(
             ctx,
-            "satf/s_maps/layout",
-            wgpu::ShaderStages::COMPUTE,
+            "s_maps",
             &[
                 (0, Slot::Uniform),
                 (1, Slot::Uniform),
@@ -30,13 +26,8 @@ impl SMaps {
                 (11, Slot::DepthArray),
                 (12, Slot::UintArray),
             ],
-        );
-        let pl = pipeline_layout(ctx, "satf/s_maps/pipeline-layout", &layout);
-        let pipeline =
-            compute_pipelines(ctx, "satf/s_maps.wgsl", "satf/s_maps", &pl, &["cs_main"])?
-                .pop()
-                .ok_or_else(|| RenderError::Invalid("pipeline missing".into()))?;
-        Ok(SMaps { layout, pipeline })
+        )
+        .map(SMaps)
     }
 
     /// Record the pass over every texel of every tile.
@@ -50,10 +41,9 @@ impl SMaps {
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
         let a = &geometry.atlas;
-        let bind = group(
+        self.0.encode(
             ctx,
-            "satf/s_maps/bind-group",
-            &self.layout,
+            encoder,
             &[
                 (0, u.params.as_entire_binding()),
                 (1, u.lights.as_entire_binding()),
@@ -64,14 +54,8 @@ impl SMaps {
                 (11, wgpu::BindingResource::TextureView(&shadow.depth_array)),
                 (12, wgpu::BindingResource::TextureView(&shadow.ids_array)),
             ],
+            &geometry.layout,
+            timestamps,
         );
-        let l = &geometry.layout;
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("satf/s_maps/pass"),
-            timestamp_writes: timestamps,
-        });
-        pass.set_bind_group(0, &bind, &[]);
-        pass.set_pipeline(&self.pipeline);
-        pass.dispatch_workgroups(groups(l.tile_width, 8), groups(l.tile_height, 8), l.tiles());
     }
 }

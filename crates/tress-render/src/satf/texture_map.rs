@@ -2,8 +2,9 @@
 
 use super::SatfGeometry;
 use super::cluster_shadow::SATF_VERTEX_LAYOUT;
-use super::passes::{Slot, group, layout, pipeline_layout};
-use crate::gpu::DEPTH_FORMAT;
+use super::passes::{Slot, layout};
+use crate::bind::bind_group;
+use crate::gpu::pipeline::{RasterPipeline, depth_test, pipeline_layout, premultiplied_over};
 use crate::{GpuContext, RenderError, shaders};
 
 /// Draws every layer mesh with its maps, shading by equation 13 and blending by equation 14:
@@ -42,51 +43,19 @@ impl TextureMap {
                     (4, Slot::Texture),
                 ],
             );
-            let pl = pipeline_layout(ctx, "satf/texture_map/pipeline-layout", &layout);
-            let blend = wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
-                operation: wgpu::BlendOperation::Add,
-            };
+            let pl = pipeline_layout(ctx, "satf/texture_map/pipeline-layout", &[Some(&layout)]);
             let pipeline = |label: &str, cull: wgpu::Face| {
-                ctx.device
-                    .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                        label: Some(label),
-                        layout: Some(&pl),
-                        vertex: wgpu::VertexState {
-                            module: &module,
-                            entry_point: Some("vs_main"),
-                            compilation_options: Default::default(),
-                            buffers: &[Some(SATF_VERTEX_LAYOUT)],
-                        },
-                        primitive: wgpu::PrimitiveState {
-                            cull_mode: Some(cull),
-                            ..Default::default()
-                        },
-                        depth_stencil: Some(wgpu::DepthStencilState {
-                            format: DEPTH_FORMAT,
-                            depth_write_enabled: Some(false),
-                            depth_compare: Some(wgpu::CompareFunction::Less),
-                            stencil: Default::default(),
-                            bias: Default::default(),
-                        }),
-                        multisample: Default::default(),
-                        fragment: Some(wgpu::FragmentState {
-                            module: &module,
-                            entry_point: Some("fs_main"),
-                            compilation_options: Default::default(),
-                            targets: &[Some(wgpu::ColorTargetState {
-                                format: color_format,
-                                blend: Some(wgpu::BlendState {
-                                    color: blend,
-                                    alpha: blend,
-                                }),
-                                write_mask: wgpu::ColorWrites::ALL,
-                            })],
-                        }),
-                        multiview_mask: None,
-                        cache: None,
-                    })
+                RasterPipeline {
+                    buffers: &[Some(SATF_VERTEX_LAYOUT)],
+                    primitive: wgpu::PrimitiveState {
+                        cull_mode: Some(cull),
+                        ..Default::default()
+                    },
+                    depth_stencil: Some(depth_test(false, wgpu::CompareFunction::Less)),
+                    targets: &[Some(premultiplied_over(color_format))],
+                    ..RasterPipeline::new(label, &pl, &module)
+                }
+                .create(ctx)
             };
             TextureMap {
                 back: pipeline("satf/texture_map/back-pipeline", wgpu::Face::Front),
@@ -111,7 +80,7 @@ impl TextureMap {
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let a = &geometry.atlas;
-        let bind = group(
+        let bind = bind_group(
             ctx,
             "satf/texture_map/bind-group",
             &self.layout,

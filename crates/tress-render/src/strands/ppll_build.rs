@@ -1,7 +1,7 @@
 //! [`PpllBuild`], owner of `ppll_build.wgsl`.
 
-use crate::bind::{Layouts, depth_texture, storage};
-use crate::gpu::DEPTH_FORMAT;
+use crate::bind::{Layouts, bind_group, bind_group_layout, depth_texture, storage};
+use crate::gpu::pipeline::{RasterPipeline, depth_test, pipeline_layout};
 use crate::strands::{PpllPool, StrandGeometry};
 use crate::{GpuContext, RenderError, shaders};
 
@@ -28,58 +28,31 @@ impl PpllBuild {
             shaders::create_module(ctx, "strands/ppll_build.wgsl", "strands/ppll_build/shader")?;
         ctx.scoped("creating the PPLL build pipeline", || {
             let fragment = wgpu::ShaderStages::FRAGMENT;
-            let layout = ctx
-                .device
-                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("strands/ppll_build/layout"),
-                    entries: &[
-                        storage(0, fragment, false),
-                        storage(1, fragment, false),
-                        storage(2, fragment, false),
-                        depth_texture(3, fragment),
-                    ],
-                });
-            let pipeline_layout =
-                ctx.device
-                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                        label: Some("strands/ppll_build/pipeline-layout"),
-                        bind_group_layouts: &[
-                            Some(&layouts.view),
-                            Some(&layouts.lighting),
-                            Some(&layouts.strands),
-                            Some(&layout),
-                        ],
-                        immediate_size: 0,
-                    });
-            let pipeline = ctx
-                .device
-                .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some("strands/ppll_build/pipeline"),
-                    layout: Some(&pipeline_layout),
-                    vertex: wgpu::VertexState {
-                        module: &module,
-                        entry_point: Some("vs_main"),
-                        compilation_options: Default::default(),
-                        buffers: &[],
-                    },
-                    primitive: wgpu::PrimitiveState::default(),
-                    depth_stencil: Some(wgpu::DepthStencilState {
-                        format: DEPTH_FORMAT,
-                        depth_write_enabled: Some(false),
-                        depth_compare: Some(wgpu::CompareFunction::Less),
-                        stencil: Default::default(),
-                        bias: Default::default(),
-                    }),
-                    multisample: Default::default(),
-                    fragment: Some(wgpu::FragmentState {
-                        module: &module,
-                        entry_point: Some("fs_main"),
-                        compilation_options: Default::default(),
-                        targets: &[],
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                });
+            let layout = bind_group_layout(
+                ctx,
+                "strands/ppll_build/layout",
+                &[
+                    storage(0, fragment, false),
+                    storage(1, fragment, false),
+                    storage(2, fragment, false),
+                    depth_texture(3, fragment),
+                ],
+            );
+            let pipeline_layout = pipeline_layout(
+                ctx,
+                "strands/ppll_build/pipeline-layout",
+                &[
+                    Some(&layouts.view),
+                    Some(&layouts.lighting),
+                    Some(&layouts.strands),
+                    Some(&layout),
+                ],
+            );
+            let pipeline = RasterPipeline {
+                depth_stencil: Some(depth_test(false, wgpu::CompareFunction::Less)),
+                ..RasterPipeline::new("strands/ppll_build/pipeline", &pipeline_layout, &module)
+            }
+            .create(ctx);
             PpllBuild { pipeline, layout }
         })
     }
@@ -93,28 +66,17 @@ impl PpllBuild {
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         inputs.pool.clear(encoder);
-        let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("strands/ppll_build/bind-group"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: inputs.pool.heads.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: inputs.pool.nodes.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: inputs.pool.counters.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(inputs.depth),
-                },
+        let group = bind_group(
+            ctx,
+            "strands/ppll_build/bind-group",
+            &self.layout,
+            &[
+                (0, inputs.pool.heads.as_entire_binding()),
+                (1, inputs.pool.nodes.as_entire_binding()),
+                (2, inputs.pool.counters.as_entire_binding()),
+                (3, wgpu::BindingResource::TextureView(inputs.depth)),
             ],
-        });
+        );
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("strands/ppll_build/pass"),
             color_attachments: &[],

@@ -1,6 +1,7 @@
 //! [`PpllResolve`], owner of `ppll_resolve.wgsl`.
 
-use crate::bind::{Layouts, storage};
+use crate::bind::{Layouts, bind_group, bind_group_layout, storage};
+use crate::gpu::pipeline::{RasterPipeline, over_color_pass, pipeline_layout, premultiplied_over};
 use crate::strands::PpllPool;
 use crate::{GpuContext, RenderError, shaders};
 
@@ -29,54 +30,21 @@ impl PpllResolve {
         )?;
         ctx.scoped("creating the PPLL resolve pipeline", || {
             let fragment = wgpu::ShaderStages::FRAGMENT;
-            let layout = ctx
-                .device
-                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("strands/ppll_resolve/layout"),
-                    entries: &[storage(0, fragment, true), storage(1, fragment, true)],
-                });
-            let pipeline_layout =
-                ctx.device
-                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                        label: Some("strands/ppll_resolve/pipeline-layout"),
-                        bind_group_layouts: &[Some(&layouts.view), Some(&layout)],
-                        immediate_size: 0,
-                    });
-            let premultiplied = wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
-                operation: wgpu::BlendOperation::Add,
-            };
-            let pipeline = ctx
-                .device
-                .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some("strands/ppll_resolve/pipeline"),
-                    layout: Some(&pipeline_layout),
-                    vertex: wgpu::VertexState {
-                        module: &module,
-                        entry_point: Some("vs_main"),
-                        compilation_options: Default::default(),
-                        buffers: &[],
-                    },
-                    primitive: wgpu::PrimitiveState::default(),
-                    depth_stencil: None,
-                    multisample: Default::default(),
-                    fragment: Some(wgpu::FragmentState {
-                        module: &module,
-                        entry_point: Some("fs_main"),
-                        compilation_options: Default::default(),
-                        targets: &[Some(wgpu::ColorTargetState {
-                            format: color_format,
-                            blend: Some(wgpu::BlendState {
-                                color: premultiplied,
-                                alpha: premultiplied,
-                            }),
-                            write_mask: wgpu::ColorWrites::ALL,
-                        })],
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                });
+            let layout = bind_group_layout(
+                ctx,
+                "strands/ppll_resolve/layout",
+                &[storage(0, fragment, true), storage(1, fragment, true)],
+            );
+            let pipeline_layout = pipeline_layout(
+                ctx,
+                "strands/ppll_resolve/pipeline-layout",
+                &[Some(&layouts.view), Some(&layout)],
+            );
+            let pipeline = RasterPipeline {
+                targets: &[Some(premultiplied_over(color_format))],
+                ..RasterPipeline::new("strands/ppll_resolve/pipeline", &pipeline_layout, &module)
+            }
+            .create(ctx);
             PpllResolve { pipeline, layout }
         })
     }
@@ -91,36 +59,16 @@ impl PpllResolve {
         color: &wgpu::TextureView,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
-        let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("strands/ppll_resolve/bind-group"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: pool.heads.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: pool.nodes.as_entire_binding(),
-                },
+        let group = bind_group(
+            ctx,
+            "strands/ppll_resolve/bind-group",
+            &self.layout,
+            &[
+                (0, pool.heads.as_entire_binding()),
+                (1, pool.nodes.as_entire_binding()),
             ],
-        });
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("strands/ppll_resolve/pass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: color,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: timestamps,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        );
+        let mut pass = over_color_pass(encoder, "strands/ppll_resolve/pass", color, timestamps);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, view, &[]);
         pass.set_bind_group(1, &group, &[]);

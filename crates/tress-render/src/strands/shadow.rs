@@ -4,6 +4,7 @@ use wgpu::util::DeviceExt;
 
 use crate::bind::Layouts;
 use crate::gpu::DEPTH_FORMAT;
+use crate::gpu::pipeline::{RasterPipeline, depth_test, pipeline_layout};
 use crate::gpu::types::CameraUniform;
 use crate::head::{HEAD_VERTEX_LAYOUT, HeadGeometry};
 use crate::strands::StrandGeometry;
@@ -35,49 +36,23 @@ impl ShadowMap {
         }
         let module = shaders::create_module(ctx, "strands/shadow.wgsl", "strands/shadow/shader")?;
         ctx.scoped("creating the shadow maps", || {
-            let depth = Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            });
-            let strand_layout =
-                ctx.device
-                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                        label: Some("strands/shadow/strand-layout"),
-                        bind_group_layouts: &[Some(&layouts.view), None, Some(&layouts.strands)],
-                        immediate_size: 0,
-                    });
-            let head_layout = ctx
-                .device
-                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                    label: Some("strands/shadow/head-layout"),
-                    bind_group_layouts: &[Some(&layouts.view)],
-                    immediate_size: 0,
-                });
+            let strand_layout = pipeline_layout(
+                ctx,
+                "strands/shadow/strand-layout",
+                &[Some(&layouts.view), None, Some(&layouts.strands)],
+            );
+            let head_layout =
+                pipeline_layout(ctx, "strands/shadow/head-layout", &[Some(&layouts.view)]);
             let pipeline =
-                |label,
-                 layout: &wgpu::PipelineLayout,
-                 entry,
-                 buffers: &[Option<wgpu::VertexBufferLayout<'_>>]| {
-                    ctx.device
-                        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                            label: Some(label),
-                            layout: Some(layout),
-                            vertex: wgpu::VertexState {
-                                module: &module,
-                                entry_point: Some(entry),
-                                compilation_options: Default::default(),
-                                buffers,
-                            },
-                            primitive: wgpu::PrimitiveState::default(),
-                            depth_stencil: depth.clone(),
-                            multisample: Default::default(),
-                            fragment: None,
-                            multiview_mask: None,
-                            cache: None,
-                        })
+                |label, layout, vertex_entry, buffers: &[Option<wgpu::VertexBufferLayout<'_>>]| {
+                    RasterPipeline {
+                        vertex_entry,
+                        buffers,
+                        depth_stencil: Some(depth_test(true, wgpu::CompareFunction::Less)),
+                        fragment_entry: None,
+                        ..RasterPipeline::new(label, layout, &module)
+                    }
+                    .create(ctx)
                 };
             let strand_pipeline = pipeline(
                 "strands/shadow/strand-pipeline",
@@ -203,9 +178,7 @@ impl ShadowMap {
             pass.set_bind_group(0, &self.cameras[i].1, &[]);
             if let Some(head) = head {
                 pass.set_pipeline(&self.head_pipeline);
-                pass.set_vertex_buffer(0, head.vertices.slice(..));
-                pass.set_index_buffer(head.indices.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..head.index_count, 0, 0..1);
+                head.draw(&mut pass);
             }
             if let Some(hair) = hair.filter(|h| h.segment_count() > 0) {
                 pass.set_pipeline(&self.strand_pipeline);

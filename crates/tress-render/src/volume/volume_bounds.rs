@@ -1,6 +1,7 @@
 //! [`VolumeBounds`], owner of `volume_bounds.wgsl`.
 
-use crate::bind::{Layouts, storage, uniform};
+use crate::bind::{Layouts, bind_group_layout, storage, uniform};
+use crate::gpu::pipeline::{compute_pipeline, pipeline_layout};
 use crate::strands::StrandGeometry;
 use crate::{GpuContext, RenderError, shaders};
 
@@ -21,25 +22,6 @@ pub(crate) fn dispatch_2d(threads: u32, size: u32) -> (u32, u32) {
     (x, if x == 0 { 0 } else { groups.div_ceil(x) })
 }
 
-/// A compute pipeline over `layout` at group 0 and the strand geometry at group 2.
-pub(crate) fn volume_pipeline(
-    ctx: &GpuContext,
-    label: &str,
-    module: &wgpu::ShaderModule,
-    entry: &str,
-    layout: &wgpu::PipelineLayout,
-) -> wgpu::ComputePipeline {
-    ctx.device
-        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(label),
-            layout: Some(layout),
-            module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            cache: None,
-        })
-}
-
 impl VolumeBounds {
     pub(crate) fn new(ctx: &GpuContext, layouts: &Layouts) -> Result<Self, RenderError> {
         let module = shaders::create_module(
@@ -49,26 +31,23 @@ impl VolumeBounds {
         )?;
         ctx.scoped("creating the volume bounds pipelines", || {
             let c = wgpu::ShaderStages::COMPUTE;
-            let layout = ctx
-                .device
-                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("volume/volume_bounds/layout"),
-                    entries: &[
-                        uniform(0, c),
-                        storage(1, c, false),
-                        storage(2, c, false),
-                        storage(3, c, false),
-                    ],
-                });
-            let pipeline_layout =
-                ctx.device
-                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                        label: Some("volume/volume_bounds/pipeline-layout"),
-                        bind_group_layouts: &[Some(&layout), None, Some(&layouts.strands)],
-                        immediate_size: 0,
-                    });
+            let layout = bind_group_layout(
+                ctx,
+                "volume/volume_bounds/layout",
+                &[
+                    uniform(0, c),
+                    storage(1, c, false),
+                    storage(2, c, false),
+                    storage(3, c, false),
+                ],
+            );
+            let pipeline_layout = pipeline_layout(
+                ctx,
+                "volume/volume_bounds/pipeline-layout",
+                &[Some(&layout), None, Some(&layouts.strands)],
+            );
             let p = |entry: &str| {
-                volume_pipeline(
+                compute_pipeline(
                     ctx,
                     &format!("volume/volume_bounds/{entry}-pipeline"),
                     &module,

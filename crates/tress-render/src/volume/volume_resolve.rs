@@ -1,6 +1,7 @@
 //! [`VolumeResolve`], owner of `volume_resolve.wgsl`.
 
-use crate::bind::{storage, uniform};
+use crate::bind::{bind_group_layout, storage, uniform};
+use crate::gpu::pipeline::{compute_pipeline, pipeline_layout};
 use crate::{GpuContext, RenderError, shaders};
 
 /// Format of the volume texture: rgb the mean tangent, a the density (exact integers to 2048).
@@ -22,47 +23,41 @@ impl VolumeResolve {
         )?;
         ctx.scoped("creating the volume resolve pipeline", || {
             let c = wgpu::ShaderStages::COMPUTE;
-            let layout = ctx
-                .device
-                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("volume/volume_resolve/layout"),
-                    entries: &[
-                        uniform(0, c),
-                        storage(1, c, true),
-                        storage(2, c, true),
-                        storage(3, c, true),
-                        storage(4, c, true),
-                        wgpu::BindGroupLayoutEntry {
-                            binding: 5,
-                            visibility: c,
-                            ty: wgpu::BindingType::StorageTexture {
-                                access: wgpu::StorageTextureAccess::WriteOnly,
-                                format: VOLUME_FORMAT,
-                                view_dimension: wgpu::TextureViewDimension::D3,
-                            },
-                            count: None,
+            let layout = bind_group_layout(
+                ctx,
+                "volume/volume_resolve/layout",
+                &[
+                    uniform(0, c),
+                    storage(1, c, true),
+                    storage(2, c, true),
+                    storage(3, c, true),
+                    storage(4, c, true),
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 5,
+                        visibility: c,
+                        ty: wgpu::BindingType::StorageTexture {
+                            access: wgpu::StorageTextureAccess::WriteOnly,
+                            format: VOLUME_FORMAT,
+                            view_dimension: wgpu::TextureViewDimension::D3,
                         },
-                        storage(6, c, false),
-                        storage(7, c, true),
-                    ],
-                });
-            let pipeline_layout =
-                ctx.device
-                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                        label: Some("volume/volume_resolve/pipeline-layout"),
-                        bind_group_layouts: &[Some(&layout)],
-                        immediate_size: 0,
-                    });
-            let pipeline = ctx
-                .device
-                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some("volume/volume_resolve/pipeline"),
-                    layout: Some(&pipeline_layout),
-                    module: &module,
-                    entry_point: Some("resolve"),
-                    compilation_options: Default::default(),
-                    cache: None,
-                });
+                        count: None,
+                    },
+                    storage(6, c, false),
+                    storage(7, c, true),
+                ],
+            );
+            let pipeline_layout = pipeline_layout(
+                ctx,
+                "volume/volume_resolve/pipeline-layout",
+                &[Some(&layout)],
+            );
+            let pipeline = compute_pipeline(
+                ctx,
+                "volume/volume_resolve/pipeline",
+                &module,
+                "resolve",
+                &pipeline_layout,
+            );
             VolumeResolve { pipeline, layout }
         })
     }

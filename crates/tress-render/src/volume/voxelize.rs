@@ -1,8 +1,9 @@
 //! [`Voxelize`], owner of `voxelize.wgsl`.
 
-use crate::bind::{Layouts, storage, uniform};
+use crate::bind::{Layouts, bind_group_layout, storage, uniform};
+use crate::gpu::pipeline::{compute_pipeline, pipeline_layout};
 use crate::strands::StrandGeometry;
-use crate::volume::volume_bounds::{dispatch_2d, volume_pipeline};
+use crate::volume::volume_bounds::dispatch_2d;
 use crate::{GpuContext, RenderError, shaders};
 
 /// The voxelize pass: strand samples into the per-voxel atomic counters and tangent sums (§3.3).
@@ -17,28 +18,25 @@ impl Voxelize {
         let module = shaders::create_module(ctx, "volume/voxelize.wgsl", "volume/voxelize/shader")?;
         ctx.scoped("creating the voxelize pipeline", || {
             let c = wgpu::ShaderStages::COMPUTE;
-            let layout = ctx
-                .device
-                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("volume/voxelize/layout"),
-                    entries: &[
-                        uniform(0, c),
-                        storage(1, c, true),
-                        storage(2, c, false),
-                        storage(3, c, false),
-                        storage(4, c, false),
-                        storage(5, c, false),
-                    ],
-                });
-            let pipeline_layout =
-                ctx.device
-                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                        label: Some("volume/voxelize/pipeline-layout"),
-                        bind_group_layouts: &[Some(&layout), None, Some(&layouts.strands)],
-                        immediate_size: 0,
-                    });
+            let layout = bind_group_layout(
+                ctx,
+                "volume/voxelize/layout",
+                &[
+                    uniform(0, c),
+                    storage(1, c, true),
+                    storage(2, c, false),
+                    storage(3, c, false),
+                    storage(4, c, false),
+                    storage(5, c, false),
+                ],
+            );
+            let pipeline_layout = pipeline_layout(
+                ctx,
+                "volume/voxelize/pipeline-layout",
+                &[Some(&layout), None, Some(&layouts.strands)],
+            );
             Voxelize {
-                pipeline: volume_pipeline(
+                pipeline: compute_pipeline(
                     ctx,
                     "volume/voxelize/pipeline",
                     &module,
