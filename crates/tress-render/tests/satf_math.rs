@@ -8,9 +8,9 @@ mod common;
 use std::f32::consts::PI;
 
 use bytemuck::{Pod, Zeroable};
+use common::compute::{Rng, run_cases, test_module};
 use glam::{Vec3, Vec4};
-use tress_render::gpu::read_buffer;
-use tress_render::{GpuContext, shaders};
+use tress_render::GpuContext;
 use tress_satf::cylinder::SurfacePoint;
 use tress_satf::database::{self as db, LookupSettings, Params};
 use tress_satf::hrir;
@@ -101,36 +101,6 @@ struct Case {
     v: [[f32; 4]; INPUTS],
 }
 
-/// A small deterministic generator (xorshift), so the grid is the same on every run.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.next()
-    }
-    fn unit(&mut self) -> Vec3 {
-        loop {
-            let p = Vec3::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            );
-            if p.length() > 0.1 && p.length() <= 1.0 {
-                return p.normalize();
-            }
-        }
-    }
-    fn color(&mut self) -> Vec3 {
-        Vec3::new(self.next(), self.next(), self.next())
-    }
-}
-
 fn cases() -> Vec<Case> {
     let mut rng = Rng(0x5a7f_2006_0b5e_55ed);
     (0..CASES)
@@ -183,68 +153,8 @@ fn cases() -> Vec<Case> {
 }
 
 fn run_gpu(ctx: &GpuContext, cases: &[Case]) -> Vec<[[f32; 4]; OUTPUTS]> {
-    let text = shaders::compose_source("tests/satf_math", HARNESS).expect("composes");
-    let module = ctx
-        .device
-        .create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("test/satf-math/shader"),
-            source: wgpu::ShaderSource::Wgsl(text.into()),
-        });
-    let input = ctx
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("test/satf-math/cases"),
-            contents: bytemuck::cast_slice(cases),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-    let bytes = (cases.len() * OUTPUTS * 16) as u64;
-    let out = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("test/satf-math/out"),
-        size: bytes,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let readback = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("test/satf-math/readback"),
-        size: bytes,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let pipeline = ctx
-        .device
-        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("test/satf-math/pipeline"),
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-    let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("test/satf-math/group"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: out.as_entire_binding(),
-            },
-        ],
-    });
-    let mut enc = ctx.device.create_command_encoder(&Default::default());
-    {
-        let mut pass = enc.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups((cases.len() as u32).div_ceil(64), 1, 1);
-    }
-    enc.copy_buffer_to_buffer(&out, 0, &readback, 0, None);
-    ctx.queue.submit([enc.finish()]);
-    let raw = read_buffer(ctx, &readback, 0..bytes).expect("readback");
-    bytemuck::pod_collect_to_vec(&raw)
+    let module = test_module(ctx, "tests/satf_math", HARNESS, "test/satf-math/shader");
+    run_cases(ctx, "test/satf-math", &module, cases, 1, &[])
 }
 
 fn close3(gpu: [f32; 4], cpu: Vec3, rel: f32, what: &str, i: usize) {

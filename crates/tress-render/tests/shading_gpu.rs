@@ -4,9 +4,9 @@
 mod common;
 
 use bytemuck::{Pod, Zeroable};
+use common::compute::{Rng, run_cases, test_module};
 use glam::{IVec2, Mat4, Vec2, Vec3, Vec4};
-use tress_render::gpu::read_buffer;
-use tress_render::{GpuContext, shaders};
+use tress_render::GpuContext;
 use tress_shading as cpu;
 use wgpu::util::DeviceExt;
 
@@ -38,39 +38,6 @@ struct Harness {
     h1: [f32; 4],
     h2: [f32; 4],
     h3: [f32; 4],
-}
-
-/// A small deterministic generator (xorshift), so the grid is the same on every run.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.next()
-    }
-    fn unit(&mut self) -> Vec3 {
-        loop {
-            let p = Vec3::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            );
-            if let Some(u) = p
-                .try_normalize()
-                .filter(|_| p.length() <= 1.0 && p.length() > 0.1)
-            {
-                return u;
-            }
-        }
-    }
-    fn color(&mut self) -> Vec3 {
-        Vec3::new(self.next(), self.next(), self.next())
-    }
 }
 
 fn lighting() -> cpu::HairLighting {
@@ -247,14 +214,12 @@ fn depth_map(ctx: &GpuContext, module: &wgpu::ShaderModule, depths: &[f32]) -> w
 }
 
 fn run_gpu(ctx: &GpuContext, cases: &[Case], depths: &[f32]) -> Vec<Vec4> {
-    let src = include_str!("shading_gpu.wgsl");
-    let text = shaders::compose_source("tests/shading_gpu.wgsl", src).expect("composes");
-    let module = ctx
-        .device
-        .create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("test/shading/shader"),
-            source: wgpu::ShaderSource::Wgsl(text.into()),
-        });
+    let module = test_module(
+        ctx,
+        "tests/shading_gpu.wgsl",
+        include_str!("shading_gpu.wgsl"),
+        "test/shading/shader",
+    );
     let map = depth_map(ctx, &module, depths);
     let h = lighting();
     let harness = Harness {
@@ -265,84 +230,26 @@ fn run_gpu(ctx: &GpuContext, cases: &[Case], depths: &[f32]) -> Vec<Vec4> {
         h2: h.secondary_color.extend(h.secondary_exponent).to_array(),
         h3: [h.secondary_shift, 0.0, 0.0, 0.0],
     };
-    let init = |label, contents: &[u8], usage| {
-        ctx.device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents,
-                usage,
-            })
-    };
-    let cases_buf = init(
-        "test/shading/cases",
-        bytemuck::cast_slice(cases),
-        wgpu::BufferUsages::STORAGE,
-    );
-    let harness_buf = init(
-        "test/shading/harness",
-        bytemuck::bytes_of(&harness),
-        wgpu::BufferUsages::UNIFORM,
-    );
-    let out_bytes = (cases.len() * OUTPUTS * 16) as u64;
-    let out = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("test/shading/results"),
-        size: out_bytes,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let readback = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("test/shading/readback"),
-        size: out_bytes,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let pipeline = ctx
+    let harness_buf = ctx
         .device
-        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("test/shading/pipeline"),
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("test/shading/harness"),
+            contents: bytemuck::bytes_of(&harness),
+            usage: wgpu::BufferUsages::UNIFORM,
         });
     let map_view = map.create_view(&Default::default());
-    let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("test/shading/group"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: cases_buf.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: out.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: harness_buf.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: wgpu::BindingResource::TextureView(&map_view),
-            },
+    let results: Vec<[f32; 4]> = run_cases(
+        ctx,
+        "test/shading",
+        &module,
+        cases,
+        OUTPUTS,
+        &[
+            (2, harness_buf.as_entire_binding()),
+            (3, wgpu::BindingResource::TextureView(&map_view)),
         ],
-    });
-    let mut enc = ctx.device.create_command_encoder(&Default::default());
-    {
-        let mut pass = enc.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups((cases.len() as u32).div_ceil(64), 1, 1);
-    }
-    enc.copy_buffer_to_buffer(&out, 0, &readback, 0, Some(out_bytes));
-    ctx.queue.submit([enc.finish()]);
-    let bytes = read_buffer(ctx, &readback, 0..out_bytes).expect("readback");
-    bytemuck::cast_slice::<u8, [f32; 4]>(&bytes)
-        .iter()
-        .map(|v| Vec4::from(*v))
-        .collect()
+    );
+    results.into_iter().map(Vec4::from).collect()
 }
 
 /// What the CPU twins give for one case, in the harness's output order.

@@ -7,8 +7,8 @@
 mod common;
 
 use bytemuck::{Pod, Zeroable};
+use common::compute::{Rng, run_cases, test_module};
 use glam::{UVec2, Vec3};
-use tress_render::gpu::read_buffer;
 use tress_render::shaders;
 use tress_shading::{self as cpu, DensityVolume};
 use wgpu::util::DeviceExt;
@@ -25,33 +25,6 @@ struct Case {
     ao: [f32; 4],
     s: [f32; 4],
     p: [f32; 4],
-}
-
-/// xorshift, so the grid is the same on every run.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.next()
-    }
-    fn unit(&mut self) -> Vec3 {
-        loop {
-            let p = Vec3::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            );
-            if p.length() > 0.1 && p.length() <= 1.0 {
-                return p.normalize();
-            }
-        }
-    }
 }
 
 /// A blobby density volume with values in quarter steps (exact in half floats).
@@ -125,24 +98,12 @@ fn cases() -> Vec<Case> {
 }
 
 fn run(ctx: &tress_render::GpuContext, cases: &[Case], density: &[f32]) -> Vec<[f32; 4]> {
-    let text = shaders::compose_source("tests/volume_gpu.wgsl", include_str!("volume_gpu.wgsl"))
-        .expect("composes");
-    let module = ctx
-        .device
-        .create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("test/volume/shader"),
-            source: wgpu::ShaderSource::Wgsl(text.into()),
-        });
-    let pipeline = ctx
-        .device
-        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("test/volume/pipeline"),
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+    let module = test_module(
+        ctx,
+        "tests/volume_gpu.wgsl",
+        include_str!("volume_gpu.wgsl"),
+        "test/volume/shader",
+    );
     // rgb: a tangent-like filler, a: the density.
     let texels: Vec<u16> = density
         .iter()
@@ -174,67 +135,18 @@ fn run(ctx: &tress_render::GpuContext, cases: &[Case], density: &[f32]) -> Vec<[
         min_filter: wgpu::FilterMode::Linear,
         ..Default::default()
     });
-    let input = ctx
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("test/volume/cases"),
-            contents: bytemuck::cast_slice(cases),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-    let bytes = (cases.len() * OUTPUTS * 16) as u64;
-    let output = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("test/volume/results"),
-        size: bytes,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("test/volume/staging"),
-        size: bytes,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("test/volume/bind-group"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: wgpu::BindingResource::TextureView(
-                    &texture.create_view(&Default::default()),
-                ),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: wgpu::BindingResource::Sampler(&sampler),
-            },
+    let view = texture.create_view(&Default::default());
+    run_cases(
+        ctx,
+        "test/volume",
+        &module,
+        cases,
+        OUTPUTS,
+        &[
+            (2, wgpu::BindingResource::TextureView(&view)),
+            (3, wgpu::BindingResource::Sampler(&sampler)),
         ],
-    });
-    let mut encoder = ctx
-        .device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("test/volume/encoder"),
-        });
-    {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("test/volume/pass"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups((cases.len() as u32).div_ceil(64), 1, 1);
-    }
-    encoder.copy_buffer_to_buffer(&output, 0, &staging, 0, Some(bytes));
-    ctx.queue.submit([encoder.finish()]);
-    bytemuck::cast_slice(&read_buffer(ctx, &staging, 0..bytes).expect("readback")).to_vec()
+    )
 }
 
 /// `|gpu - cpu| <= abs + rel · |cpu|`, with a message naming the quantity and the case.

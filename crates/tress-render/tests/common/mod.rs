@@ -1,6 +1,9 @@
-//! Shared helpers of the GPU tests: the context (fails loudly without an adapter), small scenes.
+//! Shared helpers of the GPU tests: the context (fails loudly without an adapter), small scenes,
+//! and the compute harness of the GPU-vs-CPU tests ([`compute`]).
 
 #![allow(dead_code, unreachable_pub)]
+
+pub mod compute;
 
 use std::sync::OnceLock;
 
