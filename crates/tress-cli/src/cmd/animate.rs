@@ -10,12 +10,12 @@ use serde::Serialize;
 use tress_hair::HairAsset;
 use tress_render::scene_setup::PreparedScene;
 use tress_render::{
-    COLOR_FORMAT, FrameInputs, FrameStats, GpuContext, HeadGeometry, OffscreenTargets, Renderer,
-    TargetFormats, Technique, read_texture, wgpu,
+    COLOR_FORMAT, FrameStats, GpuContext, OffscreenTargets, Renderer, TargetFormats, Technique,
+    read_texture,
 };
 use tress_scene::Scene;
 
-use super::render::{AMBIENT, Report, report};
+use super::render::{Report, frame_inputs, hair_counts, report, save, upload_head};
 
 /// Frames per second of a sequence (the sway's time step).
 pub(crate) const FPS: f32 = 24.0;
@@ -152,43 +152,19 @@ pub(crate) fn run(
         .as_ref()
         .map(|h| renderer.upload_hair(ctx, h))
         .transpose()?;
-    let head = prepared
-        .head
-        .as_ref()
-        .map(|m| HeadGeometry::new(ctx, m))
-        .transpose()?;
-    let bg = prepared.background;
+    let head = upload_head(ctx, prepared)?;
     let camera = PreparedScene::camera(scene, size);
-    let (strands, segments) = prepared
-        .hair
-        .as_ref()
-        .map_or((0, 0), |h| (h.strand_count(), h.segment_count()));
+    let (strands, segments) = hair_counts(prepared);
     let mut reports = Vec::new();
     for i in 0..frames {
         if let (Some(asset), Some(g), Some(_)) = (&prepared.hair, &mut hair, seq.animate) {
             g.update_positions(ctx, &sway(asset, i as f32 / FPS))?;
         }
-        let inputs = FrameInputs {
-            camera,
-            lights: &prepared.lights,
-            ambient: Vec3::splat(AMBIENT),
-            material: prepared.material,
-            hair: hair.as_ref(),
-            head: head.as_ref(),
-            clear: Some(wgpu::Color {
-                r: bg.x.into(),
-                g: bg.y.into(),
-                b: bg.z.into(),
-                a: 1.0,
-            }),
-        };
+        let inputs = frame_inputs(camera, prepared, hair.as_ref(), head.as_ref());
         let stats = renderer.render(ctx, &targets.targets(), &inputs)?;
         let image = read_texture(ctx, &targets.color).context("reading the frame back")?;
         let path = numbered(output, i);
-        match path.extension().and_then(|e| e.to_str()) {
-            Some(e) if e.eq_ignore_ascii_case("exr") => image.save_exr(&path)?,
-            _ => image.save_png(&path)?,
-        }
+        save(&image, &path)?;
         if !seq.json {
             let total = stats.gpu.as_ref().and_then(|g| g.timings.total_ms());
             println!(

@@ -55,29 +55,66 @@ pub(crate) struct Args {
     animate: Option<String>,
 }
 
+/// The JSON report of a frame: the keys every technique reports, then the technique's own part.
 #[derive(Serialize)]
 pub(crate) struct Report {
-    technique: String,
-    width: u32,
-    height: u32,
-    strands: usize,
-    segments: usize,
-    adapter: Adapter,
-    passes: Vec<Pass>,
-    frame_gpu_ms: Option<f64>,
-    ppll: Ppll,
-    output: String,
+    pub(crate) technique: String,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+    pub(crate) strands: usize,
+    pub(crate) segments: usize,
+    pub(crate) adapter: Adapter,
+    pub(crate) passes: Vec<Pass>,
+    pub(crate) frame_gpu_ms: Option<f64>,
+    pub(crate) ppll: Ppll,
+    pub(crate) output: String,
     #[serde(skip_serializing_if = "Option::is_none")]
-    patches: Option<PatchReport>,
+    pub(crate) patches: Option<PatchReport>,
     /// The hair volume, when the frame voxelized it (volume, hybrid, or strands with volume
     /// shadows or AO).
     #[serde(skip_serializing_if = "Option::is_none")]
-    volume: Option<super::animate::VolumeReport>,
+    pub(crate) volume: Option<super::animate::VolumeReport>,
+    /// The `satf` technique's part.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) satf: Option<super::render_satf::SatfReport>,
+}
+
+impl Report {
+    /// The keys every technique reports, for a frame of `size` of `scene` written to `output`;
+    /// no PPLL (zeros) and no technique part.
+    pub(crate) fn new(
+        ctx: &GpuContext,
+        scene: &Scene,
+        size: [u32; 2],
+        (strands, segments): (usize, usize),
+        output: &Path,
+        passes: Vec<Pass>,
+        frame_gpu_ms: Option<f64>,
+    ) -> Report {
+        Report {
+            technique: scene.technique.clone(),
+            width: size[0],
+            height: size[1],
+            strands,
+            segments,
+            adapter: Adapter {
+                name: ctx.adapter_info.name.clone(),
+                backend: format!("{:?}", ctx.adapter_info.backend).to_lowercase(),
+            },
+            passes,
+            frame_gpu_ms,
+            ppll: Ppll::default(),
+            output: output.display().to_string(),
+            patches: None,
+            volume: None,
+            satf: None,
+        }
+    }
 }
 
 /// The `patches` technique's part of the report.
 #[derive(Serialize)]
-struct PatchReport {
+pub(crate) struct PatchReport {
     scheme: String,
     source: String,
     triangles: u32,
@@ -86,23 +123,79 @@ struct PatchReport {
 }
 
 #[derive(Serialize)]
-struct Adapter {
-    name: String,
-    backend: String,
+pub(crate) struct Adapter {
+    pub(crate) name: String,
+    pub(crate) backend: String,
 }
 
 #[derive(Serialize)]
-struct Pass {
+pub(crate) struct Pass {
     name: String,
     gpu_ms: f64,
 }
 
-#[derive(Serialize)]
-struct Ppll {
-    capacity: u32,
-    used: u32,
-    dropped: u32,
-    bytes: u64,
+/// The per-pixel linked lists; all zero for the techniques that have none (patches, SATF), so
+/// every report has the same keys.
+#[derive(Serialize, Default)]
+pub(crate) struct Ppll {
+    pub(crate) capacity: u32,
+    pub(crate) used: u32,
+    pub(crate) dropped: u32,
+    pub(crate) bytes: u64,
+}
+
+/// The passes of `timings` (none without timestamps).
+pub(crate) fn passes(timings: Option<&Timings>) -> Vec<Pass> {
+    match timings {
+        Some(Timings::Passes(p)) => p
+            .iter()
+            .map(|t| Pass {
+                name: t.name.to_string(),
+                gpu_ms: t.ms,
+            })
+            .collect(),
+        _ => Vec::new(),
+    }
+}
+
+/// Strands and segments of the scene's hair (zeros without hair).
+pub(crate) fn hair_counts(prepared: &PreparedScene) -> (usize, usize) {
+    prepared
+        .hair
+        .as_ref()
+        .map_or((0, 0), |h| (h.strand_count(), h.segment_count()))
+}
+
+/// The scene's head mesh uploaded, if it has one.
+pub(crate) fn upload_head(
+    ctx: &GpuContext,
+    prepared: &PreparedScene,
+) -> Result<Option<HeadGeometry>> {
+    Ok(prepared
+        .head
+        .as_ref()
+        .map(|m| HeadGeometry::new(ctx, m))
+        .transpose()?)
+}
+
+/// What a frame clears its color target to: the scene's background, opaque.
+pub(crate) fn clear_color(prepared: &PreparedScene) -> Option<wgpu::Color> {
+    let bg = prepared.background;
+    Some(wgpu::Color {
+        r: bg.x.into(),
+        g: bg.y.into(),
+        b: bg.z.into(),
+        a: 1.0,
+    })
+}
+
+/// Write `image` to `path`: OpenEXR for `.exr` (any case), PNG otherwise.
+pub(crate) fn save(image: &tress_render::LinearImage, path: &Path) -> Result<()> {
+    match path.extension() {
+        Some(e) if e.eq_ignore_ascii_case("exr") => image.save_exr(path)?,
+        _ => image.save_png(path)?,
+    }
+    Ok(())
 }
 
 /// Build the scene the inputs describe, before any settings from the command line (see
@@ -133,7 +226,7 @@ pub(crate) fn apply_options(
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
-    let ext = output_kind(&args.output)?;
+    check_output(&args.output)?;
     let (mut scene, auto_frame) = base_scene(&args.inputs)?;
     apply_options(
         &mut scene,
@@ -179,7 +272,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
         return super::render_satf::run(&ctx, &scene, &prepared, size, &args.output, args.json);
     }
     if let Some(p) = &patches {
-        return run_patches(&ctx, &args, &scene, &prepared, p, size, ext);
+        return run_patches(&ctx, &args, &scene, &prepared, p, size);
     }
     if args.frames.is_some() || args.animate.is_some() {
         let seq = super::animate::Sequence {
@@ -189,22 +282,13 @@ pub(crate) fn run(args: Args) -> Result<()> {
         };
         return super::animate::run(&ctx, seq, &args.output, &scene, &prepared, size);
     }
-    let pb = progress::spinner(format!(
-        "rendering {}x{} on {}",
-        size[0], size[1], ctx.adapter_info.name
-    ));
+    let pb = rendering_spinner(&ctx, size);
     let result = render_frame(&ctx, &scene, &prepared, size);
     pb.finish_and_clear();
     let (image, stats) = result?;
-    match ext {
-        OutputKind::Png => image.save_png(&args.output)?,
-        OutputKind::Exr => image.save_exr(&args.output)?,
-    }
+    save(&image, &args.output)?;
 
-    let (strands, segments) = prepared
-        .hair
-        .as_ref()
-        .map_or((0, 0), |h| (h.strand_count(), h.segment_count()));
+    let (strands, segments) = hair_counts(&prepared);
     let report = report(&ctx, &scene, &args.output, strands, segments, &stats);
     if args.json {
         println!("{}", serde_json::to_string(&report)?);
@@ -255,26 +339,13 @@ pub(crate) fn render_frame(
         .as_ref()
         .map(|h| renderer.upload_hair(ctx, h))
         .transpose()?;
-    let head = prepared
-        .head
-        .as_ref()
-        .map(|m| HeadGeometry::new(ctx, m))
-        .transpose()?;
-    let bg = prepared.background;
-    let inputs = FrameInputs {
-        camera: PreparedScene::camera(scene, size),
-        lights: &prepared.lights,
-        ambient: Vec3::splat(AMBIENT),
-        material: prepared.material,
-        hair: hair.as_ref(),
-        head: head.as_ref(),
-        clear: Some(wgpu::Color {
-            r: bg.x.into(),
-            g: bg.y.into(),
-            b: bg.z.into(),
-            a: 1.0,
-        }),
-    };
+    let head = upload_head(ctx, prepared)?;
+    let inputs = frame_inputs(
+        PreparedScene::camera(scene, size),
+        prepared,
+        hair.as_ref(),
+        head.as_ref(),
+    );
     // In the default `Wait` mode the renderer itself repeats a frame that dropped fragments with
     // a grown PPLL pool (up to its cap), so one call gives the best frame the budget allows.
     let stats = renderer.render(ctx, &targets.targets(), &inputs)?;
@@ -285,6 +356,32 @@ pub(crate) fn render_frame(
 /// Constant ambient light added to every technique's shading (linear RGB per channel).
 pub(crate) const AMBIENT: f32 = 0.08;
 
+/// The inputs of a strand, volume or hybrid frame of the prepared scene seen by `camera`.
+pub(crate) fn frame_inputs<'a>(
+    camera: tress_render::Camera,
+    prepared: &'a PreparedScene,
+    hair: Option<&'a tress_render::StrandGeometry>,
+    head: Option<&'a HeadGeometry>,
+) -> FrameInputs<'a> {
+    FrameInputs {
+        camera,
+        lights: &prepared.lights,
+        ambient: Vec3::splat(AMBIENT),
+        material: prepared.material,
+        hair,
+        head,
+        clear: clear_color(prepared),
+    }
+}
+
+/// The spinner shown while a frame of `size` renders.
+pub(crate) fn rendering_spinner(ctx: &GpuContext, size: [u32; 2]) -> indicatif::ProgressBar {
+    progress::spinner(format!(
+        "rendering {}x{} on {}",
+        size[0], size[1], ctx.adapter_info.name
+    ))
+}
+
 pub(crate) fn report(
     ctx: &GpuContext,
     scene: &Scene,
@@ -293,40 +390,29 @@ pub(crate) fn report(
     segments: usize,
     stats: &FrameStats,
 ) -> Report {
-    let (passes, frame_gpu_ms) = match stats.gpu.as_ref().map(|g| &g.timings) {
-        Some(Timings::Passes(p)) => (
-            p.iter()
-                .map(|t| Pass {
-                    name: t.name.to_string(),
-                    gpu_ms: t.ms,
-                })
-                .collect(),
-            Some(p.iter().map(|t| t.ms).sum()),
-        ),
-        _ => (Vec::new(), None),
+    let timings = stats.gpu.as_ref().map(|g| &g.timings);
+    let frame_gpu_ms = match timings {
+        Some(Timings::Passes(p)) => Some(p.iter().map(|t| t.ms).sum()),
+        _ => None,
     };
     let ppll = stats.gpu.as_ref().map(|g| &g.ppll);
     Report {
-        technique: scene.technique.clone(),
-        width: stats.size[0],
-        height: stats.size[1],
-        strands,
-        segments,
-        adapter: Adapter {
-            name: ctx.adapter_info.name.clone(),
-            backend: format!("{:?}", ctx.adapter_info.backend).to_lowercase(),
-        },
-        passes,
-        frame_gpu_ms,
         ppll: Ppll {
             capacity: stats.ppll_capacity,
             used: ppll.map_or(0, |p| p.used),
             dropped: ppll.map_or(0, |p| p.dropped),
             bytes: stats.ppll_bytes,
         },
-        output: output.display().to_string(),
-        patches: None,
         volume: super::animate::volume_report(stats),
+        ..Report::new(
+            ctx,
+            scene,
+            stats.size,
+            (strands, segments),
+            output,
+            passes(timings),
+            frame_gpu_ms,
+        )
     }
 }
 
@@ -338,48 +424,15 @@ fn run_patches(
     prepared: &PreparedScene,
     patches: &PatchScene,
     size: [u32; 2],
-    ext: OutputKind,
 ) -> Result<()> {
-    let pb = progress::spinner(format!(
-        "rendering {}x{} on {}",
-        size[0], size[1], ctx.adapter_info.name
-    ));
+    let pb = rendering_spinner(ctx, size);
     let result = render_patch_frame(ctx, scene, prepared, patches, size);
     pb.finish_and_clear();
     let (image, stats) = result?;
-    match ext {
-        OutputKind::Png => image.save_png(&args.output)?,
-        OutputKind::Exr => image.save_exr(&args.output)?,
-    }
-    let passes: Vec<Pass> = match &stats.timings {
-        Some(Timings::Passes(p)) => p
-            .iter()
-            .map(|t| Pass {
-                name: t.name.to_string(),
-                gpu_ms: t.ms,
-            })
-            .collect(),
-        _ => Vec::new(),
-    };
+    save(&image, &args.output)?;
+    let passes = passes(stats.timings.as_ref());
+    let frame_gpu_ms = (!passes.is_empty()).then(|| passes.iter().map(|p| p.gpu_ms).sum());
     let report = Report {
-        technique: scene.technique.clone(),
-        width: size[0],
-        height: size[1],
-        strands: prepared.hair.as_ref().map_or(0, |h| h.strand_count()),
-        segments: prepared.hair.as_ref().map_or(0, |h| h.segment_count()),
-        adapter: Adapter {
-            name: ctx.adapter_info.name.clone(),
-            backend: format!("{:?}", ctx.adapter_info.backend).to_lowercase(),
-        },
-        frame_gpu_ms: (!passes.is_empty()).then(|| passes.iter().map(|p| p.gpu_ms).sum()),
-        passes,
-        ppll: Ppll {
-            capacity: 0,
-            used: 0,
-            dropped: 0,
-            bytes: 0,
-        },
-        output: args.output.display().to_string(),
         patches: Some(PatchReport {
             scheme: stats.scheme.name().to_string(),
             source: patches.source.name().to_string(),
@@ -387,7 +440,15 @@ fn run_patches(
             components: patches.mesh.component_count(),
             ao_bake_s: patches.ao_bake_seconds,
         }),
-        volume: None,
+        ..Report::new(
+            ctx,
+            scene,
+            size,
+            hair_counts(prepared),
+            &args.output,
+            passes,
+            frame_gpu_ms,
+        )
     };
     if args.json {
         println!("{}", serde_json::to_string(&report)?);
@@ -435,12 +496,7 @@ pub(crate) fn render_patch_frame(
     };
     let targets = OffscreenTargets::new(ctx, size, COLOR_FORMAT)?;
     let geometry = renderer.upload_patches(ctx, &patches.mesh, patches.sort_center)?;
-    let head = prepared
-        .head
-        .as_ref()
-        .map(|m| HeadGeometry::new(ctx, m))
-        .transpose()?;
-    let bg = prepared.background;
+    let head = upload_head(ctx, prepared)?;
     let inputs = PatchFrameInputs {
         camera: PreparedScene::camera(scene, size),
         lights: &prepared.lights,
@@ -448,32 +504,22 @@ pub(crate) fn render_patch_frame(
         head_color: prepared.material.head_color,
         patches: Some(&geometry),
         head: head.as_ref(),
-        clear: Some(wgpu::Color {
-            r: bg.x.into(),
-            g: bg.y.into(),
-            b: bg.z.into(),
-            a: 1.0,
-        }),
+        clear: clear_color(prepared),
     };
     let stats = renderer.render(ctx, &targets.targets(), &inputs)?;
     let image = read_texture(ctx, &targets.color).context("reading the frame back")?;
     Ok((image, stats))
 }
 
-enum OutputKind {
-    Png,
-    Exr,
-}
-
-fn output_kind(path: &Path) -> Result<OutputKind> {
+/// Check that `path` names an image `render` can write (`.png` or `.exr`, any case).
+fn check_output(path: &Path) -> Result<()> {
     match path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase)
         .as_deref()
     {
-        Some("png") => Ok(OutputKind::Png),
-        Some("exr") => Ok(OutputKind::Exr),
+        Some("png" | "exr") => Ok(()),
         _ => bail!("{}: the output must end in .png or .exr", path.display()),
     }
 }

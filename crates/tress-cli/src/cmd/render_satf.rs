@@ -17,54 +17,20 @@ use glam::Vec3;
 use serde::Serialize;
 use tress_render::satf::scene::{load_clusters, satf_settings};
 use tress_render::{
-    COLOR_FORMAT, GpuContext, HeadGeometry, OffscreenTargets, PreparedScene, SatfDatabase,
-    SatfFrameInputs, SatfGeometry, SatfRenderer, TargetFormats, Timings, read_texture, wgpu,
+    COLOR_FORMAT, GpuContext, OffscreenTargets, PreparedScene, SatfDatabase, SatfFrameInputs,
+    SatfGeometry, SatfRenderer, TargetFormats, Timings, read_texture,
 };
 use tress_scene::Scene;
 
-use super::render::AMBIENT;
+use super::render::{
+    AMBIENT, Report, clear_color, hair_counts, passes, rendering_spinner, save, upload_head,
+};
 use super::satf_bake::database_for_render;
 use crate::progress;
 
-/// The report: the keys of every technique's report, and `satf`.
+/// The `satf` part of the report.
 #[derive(Serialize)]
-struct Report {
-    technique: String,
-    width: u32,
-    height: u32,
-    strands: usize,
-    segments: usize,
-    adapter: Adapter,
-    passes: Vec<Pass>,
-    frame_gpu_ms: Option<f64>,
-    ppll: Ppll,
-    output: String,
-    satf: SatfReport,
-}
-
-#[derive(Serialize)]
-struct Adapter {
-    name: String,
-    backend: String,
-}
-
-#[derive(Serialize)]
-struct Pass {
-    name: String,
-    gpu_ms: f64,
-}
-
-/// Always zero: SATF has no per-pixel lists (kept so every report has the same keys).
-#[derive(Serialize)]
-struct Ppll {
-    capacity: u32,
-    used: u32,
-    dropped: u32,
-    bytes: u64,
-}
-
-#[derive(Serialize)]
-struct SatfReport {
+pub(crate) struct SatfReport {
     database: String,
     database_samples: u32,
     cluster_source: &'static str,
@@ -113,21 +79,13 @@ pub(crate) fn run(
     let volume = volume?;
     let clusters_cpu_ms = start.elapsed().as_secs_f64() * 1e3;
 
-    let pb = progress::spinner(format!(
-        "rendering {}x{} on {}",
-        size[0], size[1], ctx.adapter_info.name
-    ));
+    let pb = rendering_spinner(ctx, size);
     let result = (|| -> Result<_> {
         let db = SatfDatabase::new(ctx, &cpu_db)?;
         let geometry = SatfGeometry::new(ctx, &volume, &db, &satf.settings)?;
         let mut renderer = SatfRenderer::new(ctx, TargetFormats::default(), satf.settings)?;
-        let head = prepared
-            .head
-            .as_ref()
-            .map(|m| HeadGeometry::new(ctx, m))
-            .transpose()?;
+        let head = upload_head(ctx, prepared)?;
         let targets = OffscreenTargets::new(ctx, size, COLOR_FORMAT)?;
-        let bg = prepared.background;
         let inputs = SatfFrameInputs {
             camera: PreparedScene::camera(scene, size),
             lights: &prepared.lights,
@@ -136,12 +94,7 @@ pub(crate) fn run(
             clusters: Some(&geometry),
             database: &db,
             head: head.as_ref(),
-            clear: Some(wgpu::Color {
-                r: bg.x.into(),
-                g: bg.y.into(),
-                b: bg.z.into(),
-                a: 1.0,
-            }),
+            clear: clear_color(prepared),
         };
         // The first frame warms up; the second is the one reported.
         renderer.render(ctx, &targets.targets(), &inputs)?;
@@ -151,81 +104,56 @@ pub(crate) fn run(
     })();
     pb.finish_and_clear();
     let (image, stats, features_cpu_ms, atlas) = result?;
-    let is_exr = output
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-    if is_exr {
-        image.save_exr(output)?;
-    } else {
-        image.save_png(output)?;
-    }
+    save(&image, output)?;
 
-    let passes: Vec<Pass> = match &stats.timings {
-        Timings::Passes(p) => p
-            .iter()
-            .map(|t| Pass {
-                name: t.name.to_string(),
-                gpu_ms: t.ms,
-            })
-            .collect(),
-        Timings::NotSupported => Vec::new(),
-    };
     let [i, c, m, l, s] = stats.table1_ms().map(|(_, ms)| ms);
     let counts = volume.stats(&satf.settings.sampling);
-    let report = Report {
-        technique: scene.technique.clone(),
-        width: size[0],
-        height: size[1],
-        strands: prepared.hair.as_ref().map_or(0, |h| h.strand_count()),
-        segments: prepared.hair.as_ref().map_or(0, |h| h.segment_count()),
-        adapter: Adapter {
-            name: ctx.adapter_info.name.clone(),
-            backend: format!("{:?}", ctx.adapter_info.backend).to_lowercase(),
+    let r = SatfReport {
+        database: db_path.display().to_string(),
+        database_samples: cpu_db.sample_count() as u32,
+        cluster_source: match satf.clusters {
+            tress_render::satf::scene::ClusterSource::Fit(_) => "fit",
+            tress_render::satf::scene::ClusterSource::Generate(_) => "generate",
         },
-        frame_gpu_ms: stats.timings.total_ms(),
-        passes,
-        ppll: Ppll {
-            capacity: 0,
-            used: 0,
-            dropped: 0,
-            bytes: 0,
+        clusters: stats.clusters,
+        macro_clusters: counts.macro_clusters,
+        layers: stats.layers,
+        cluster_strands: counts.strands,
+        hsvs: stats.hsvs,
+        uniform_hsvs: stats.uniform_hsvs,
+        interpolated_hsvs: stats.interpolated_hsvs,
+        atlas,
+        stage_timing: match satf.settings.stage_timing {
+            tress_render::satf::StageTiming::Timestamps => "timestamps",
+            tress_render::satf::StageTiming::WallClock => "wall_clock",
         },
-        output: output.display().to_string(),
-        satf: SatfReport {
-            database: db_path.display().to_string(),
-            database_samples: cpu_db.sample_count() as u32,
-            cluster_source: match satf.clusters {
-                tress_render::satf::scene::ClusterSource::Fit(_) => "fit",
-                tress_render::satf::scene::ClusterSource::Generate(_) => "generate",
-            },
-            clusters: stats.clusters,
-            macro_clusters: counts.macro_clusters,
-            layers: stats.layers,
-            cluster_strands: counts.strands,
-            hsvs: stats.hsvs,
-            uniform_hsvs: stats.uniform_hsvs,
-            interpolated_hsvs: stats.interpolated_hsvs,
-            atlas,
-            stage_timing: match satf.settings.stage_timing {
-                tress_render::satf::StageTiming::Timestamps => "timestamps",
-                tress_render::satf::StageTiming::WallClock => "wall_clock",
-            },
-            clusters_cpu_ms,
-            features_cpu_ms,
-            stages_ms: Stages {
-                index_calculation: i,
-                map_construction: c,
-                texture_mapping: m,
-                lighting: l,
-                shadowing: s,
-            },
+        clusters_cpu_ms,
+        features_cpu_ms,
+        stages_ms: Stages {
+            index_calculation: i,
+            map_construction: c,
+            texture_mapping: m,
+            lighting: l,
+            shadowing: s,
         },
     };
+    let report = Report::new(
+        ctx,
+        scene,
+        size,
+        hair_counts(prepared),
+        output,
+        passes(Some(&stats.timings)),
+        stats.timings.total_ms(),
+    );
     if json {
+        let report = Report {
+            satf: Some(r),
+            ..report
+        };
         println!("{}", serde_json::to_string(&report)?);
         return Ok(());
     }
-    let r = &report.satf;
     println!(
         "wrote {} ({}x{}, {} clusters, {} layers, {} HSVs ({} uniform), {} strands) on {} ({})",
         report.output,
