@@ -6,62 +6,23 @@
 mod common;
 
 use glam::Vec3;
-use tress_render::{
-    COLOR_FORMAT, Camera, DirectionalLight, FrameInputs, HeadGeometry, HeadMesh, Material,
-    OffscreenTargets, Renderer, Shading, StrandSettings, TargetFormats, read_texture,
-};
+use tress_render::{DirectionalLight, Renderer, Shading, StrandSettings, TargetFormats};
 
 const SIZE: u32 = 128;
 /// Mean FLIP error allowed: lavapipe reproduces its own images almost exactly; the margin allows
 /// other drivers' rounding and the order of insertion in the PPLL tail.
 const MAX_MEAN_FLIP: f32 = 0.03;
 
-/// Settings at this scene's scale: the head has radius 1 (about 10 cm), so `r` = 4 strands per
-/// centimetre is 40 per unit, and the bias is 0.5 mm.
 fn settings() -> StrandSettings {
-    StrandSettings {
-        shadow_r: 40.0,
-        shadow_bias: 0.005,
-        ..Default::default()
-    }
+    common::sphere_strand_settings()
 }
 
 fn render(settings: StrandSettings, lights: &[DirectionalLight]) -> image::RgbImage {
     let ctx = common::gpu().expect("checked by the caller");
     let mut r = Renderer::new(&ctx, TargetFormats::default(), settings).expect("renderer");
-    let hair = r
-        .upload_hair(&ctx, &common::sphere_hair(1.0, 1200, 12))
-        .expect("hair");
-    let head =
-        HeadGeometry::new(&ctx, &HeadMesh::uv_sphere(Vec3::ZERO, 0.97, 24, 32)).expect("head");
-    let t = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
-    let camera = Camera::look_at(
-        Vec3::new(2.6, 1.2, 4.4),
-        Vec3::new(0.0, -0.45, 0.0),
-        Vec3::Y,
-        45f32.to_radians(),
-        0.1,
-        20.0,
-        [SIZE, SIZE],
-    );
-    let inputs = FrameInputs {
-        camera,
-        lights,
-        ambient: Vec3::splat(0.06),
-        material: Material::default(),
-        hair: Some(&hair),
-        head: Some(&head),
-        clear: Some(wgpu::Color {
-            r: 0.15,
-            g: 0.16,
-            b: 0.18,
-            a: 1.0,
-        }),
-    };
-    let stats = r.render(&ctx, &t.targets(), &inputs).expect("frame");
+    let (stats, img) = common::render_sphere_golden(&ctx, &mut r, SIZE, lights);
     assert_eq!(stats.gpu.expect("stats").ppll.dropped, 0);
-    let img = read_texture(&ctx, &t.color).expect("readback").to_srgb8();
-    image::DynamicImage::ImageRgba8(img).to_rgb8()
+    img
 }
 
 fn key_light() -> DirectionalLight {

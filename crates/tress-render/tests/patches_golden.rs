@@ -15,8 +15,7 @@ use tress_hair::patches::{
 use tress_render::patches::scene::head_tri_mesh;
 use tress_render::patches::{PatchFrameInputs, PatchRenderer, PatchSettings, RenderScheme};
 use tress_render::{
-    COLOR_FORMAT, Camera, DirectionalLight, HeadGeometry, HeadMesh, OffscreenTargets,
-    TargetFormats, read_texture,
+    COLOR_FORMAT, Camera, DirectionalLight, HeadGeometry, HeadMesh, OffscreenTargets, TargetFormats,
 };
 
 const SIZE: u32 = 128;
@@ -120,16 +119,10 @@ fn render(
         head_color: Vec3::new(0.55, 0.4, 0.33),
         patches: Some(&geometry),
         head: Some(&head),
-        clear: Some(wgpu::Color {
-            r: 0.15,
-            g: 0.16,
-            b: 0.18,
-            a: 1.0,
-        }),
+        clear: Some(common::BACKGROUND),
     };
     r.render(&ctx, &t.targets(), &inputs).expect("frame");
-    let img = read_texture(&ctx, &t.color).expect("readback").to_srgb8();
-    image::DynamicImage::ImageRgba8(img).to_rgb8()
+    common::srgb_image(&ctx, &t.color)
 }
 
 /// Mean FLIP error between two renders.

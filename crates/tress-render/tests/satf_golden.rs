@@ -13,7 +13,7 @@ use tress_hair::generate::Head;
 use tress_render::satf::{Reflectance, SatfSettings, StageTiming};
 use tress_render::{
     COLOR_FORMAT, Camera, DirectionalLight, HeadGeometry, HeadMesh, OffscreenTargets, SatfDatabase,
-    SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, TargetFormats, read_texture,
+    SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, TargetFormats,
 };
 use tress_satf::database::{BakeSettings, Database, bake};
 use tress_satf::generate::{ClusterStyle, generate_clusters};
@@ -110,16 +110,10 @@ fn render(settings: SatfSettings, volume: &HairVolume) -> (image::RgbImage, Satf
         clusters: Some(&geometry),
         database: &db,
         head: Some(&head),
-        clear: Some(wgpu::Color {
-            r: 0.15,
-            g: 0.16,
-            b: 0.18,
-            a: 1.0,
-        }),
+        clear: Some(common::BACKGROUND),
     };
     let stats = r.render(&ctx, &t.targets(), &inputs).expect("frame");
-    let img = read_texture(&ctx, &t.color).expect("readback").to_srgb8();
-    (image::DynamicImage::ImageRgba8(img).to_rgb8(), stats)
+    (common::srgb_image(&ctx, &t.color), stats)
 }
 
 #[test]

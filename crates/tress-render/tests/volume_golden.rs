@@ -7,9 +7,8 @@ mod common;
 
 use glam::Vec3;
 use tress_render::{
-    COLOR_FORMAT, Camera, DirectionalLight, FrameInputs, HeadGeometry, HeadMesh, HybridSettings,
-    Material, OffscreenTargets, Renderer, ShadowMode, StrandSettings, TargetFormats, Technique,
-    Transition, VolumeSettings, VoxelizeMode, read_texture,
+    DirectionalLight, HybridSettings, Renderer, ShadowMode, StrandSettings, TargetFormats,
+    Technique, Transition, VolumeSettings, VoxelizeMode,
 };
 
 const SIZE: u32 = 128;
@@ -17,11 +16,7 @@ const SIZE: u32 = 128;
 const MAX_MEAN_FLIP: f32 = 0.03;
 
 fn strands() -> StrandSettings {
-    StrandSettings {
-        shadow_r: 40.0,
-        shadow_bias: 0.005,
-        ..Default::default()
-    }
+    common::sphere_strand_settings()
 }
 
 /// At the scene's scale (head radius 1, about 10 cm; 1200 sparse strands).
@@ -46,46 +41,16 @@ fn render(
     r.set_volume_settings(&ctx, volume).expect("volume");
     r.set_hybrid_settings(hybrid).expect("hybrid");
     r.set_technique(technique);
-    let hair = r
-        .upload_hair(&ctx, &common::sphere_hair(1.0, 1200, 12))
-        .expect("hair");
-    let head =
-        HeadGeometry::new(&ctx, &HeadMesh::uv_sphere(Vec3::ZERO, 0.97, 24, 32)).expect("head");
-    let t = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
-    let camera = Camera::look_at(
-        Vec3::new(2.6, 1.2, 4.4),
-        Vec3::new(0.0, -0.45, 0.0),
-        Vec3::Y,
-        45f32.to_radians(),
-        0.1,
-        20.0,
-        [SIZE, SIZE],
-    );
     let lights = [DirectionalLight {
         direction: Vec3::new(0.6, -0.6, -0.5),
         color: Vec3::ONE,
         intensity: 2.5,
     }];
-    let inputs = FrameInputs {
-        camera,
-        lights: &lights,
-        ambient: Vec3::splat(0.06),
-        material: Material::default(),
-        hair: Some(&hair),
-        head: Some(&head),
-        clear: Some(wgpu::Color {
-            r: 0.15,
-            g: 0.16,
-            b: 0.18,
-            a: 1.0,
-        }),
-    };
-    let stats = r.render(&ctx, &t.targets(), &inputs).expect("frame");
+    let (stats, img) = common::render_sphere_golden(&ctx, &mut r, SIZE, &lights);
     let gpu = stats.gpu.expect("stats");
     assert_eq!(gpu.ppll.dropped, 0);
     assert!(gpu.volume.is_none_or(|v| v.dropped == 0));
-    let img = read_texture(&ctx, &t.color).expect("readback").to_srgb8();
-    image::DynamicImage::ImageRgba8(img).to_rgb8()
+    img
 }
 
 #[test]

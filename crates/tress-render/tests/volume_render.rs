@@ -15,13 +15,8 @@ use tress_render::{
 
 const SIZE: u32 = 96;
 
-/// Settings at the test scene's scale (head radius 1, about 10 cm).
 fn strands() -> StrandSettings {
-    StrandSettings {
-        shadow_r: 40.0,
-        shadow_bias: 0.005,
-        ..Default::default()
-    }
+    common::sphere_strand_settings()
 }
 
 fn volume() -> VolumeSettings {
@@ -53,8 +48,7 @@ fn scene() -> Scene {
     let hair = renderer
         .upload_hair(&ctx, &common::sphere_hair(1.0, 1200, 12))
         .expect("hair");
-    let head =
-        HeadGeometry::new(&ctx, &HeadMesh::uv_sphere(Vec3::ZERO, 0.97, 24, 32)).expect("head");
+    let head = common::sphere_head(&ctx);
     let targets = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
     Scene {
         ctx,

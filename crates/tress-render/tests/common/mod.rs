@@ -9,7 +9,10 @@ use std::sync::OnceLock;
 
 use glam::{Mat4, Vec3};
 use tress_hair::HairAsset;
-use tress_render::{Camera, GpuContext};
+use tress_render::{
+    COLOR_FORMAT, Camera, DirectionalLight, FrameInputs, FrameStats, GpuContext, HeadGeometry,
+    HeadMesh, Material, OffscreenTargets, Renderer, StrandSettings, read_texture,
+};
 
 /// The GPU context shared by a test binary, or `None` when `TRESS_SKIP_GPU_TESTS=1` and there is
 /// no adapter. Without an adapter (and without that variable) the test fails with a message that
@@ -86,6 +89,71 @@ pub fn sphere_hair(radius: f32, strands: u32, vertices: u32) -> HairAsset {
     }
     let counts = vec![vertices; strands as usize];
     HairAsset::from_counts(positions, &counts).expect("valid asset")
+}
+
+/// Strand settings at the sphere scenes' scale: the head has radius 1 (about 10 cm), so `r` = 4
+/// strands per centimetre is 40 per unit, and the bias is 0.5 mm.
+pub fn sphere_strand_settings() -> StrandSettings {
+    StrandSettings {
+        shadow_r: 40.0,
+        shadow_bias: 0.005,
+        ..Default::default()
+    }
+}
+
+/// The head of the sphere scenes: a sphere of radius 0.97 under [`sphere_hair`]`(1.0, …)`.
+pub fn sphere_head(ctx: &GpuContext) -> HeadGeometry {
+    HeadGeometry::new(ctx, &HeadMesh::uv_sphere(Vec3::ZERO, 0.97, 24, 32)).expect("head")
+}
+
+/// What the golden scenes clear the color target to.
+pub const BACKGROUND: wgpu::Color = wgpu::Color {
+    r: 0.15,
+    g: 0.16,
+    b: 0.18,
+    a: 1.0,
+};
+
+/// A frame's color target as an 8-bit sRGB image (what the goldens hold).
+pub fn srgb_image(ctx: &GpuContext, color: &wgpu::Texture) -> image::RgbImage {
+    let img = read_texture(ctx, color).expect("readback").to_srgb8();
+    image::DynamicImage::ImageRgba8(img).to_rgb8()
+}
+
+/// The scene of the strand and volume goldens drawn by `renderer` under `lights`: 1200 strands
+/// of [`sphere_hair`] on [`sphere_head`], `size`² from the front right. Returns the frame's
+/// statistics and its image.
+pub fn render_sphere_golden(
+    ctx: &GpuContext,
+    renderer: &mut Renderer,
+    size: u32,
+    lights: &[DirectionalLight],
+) -> (FrameStats, image::RgbImage) {
+    let hair = renderer
+        .upload_hair(ctx, &sphere_hair(1.0, 1200, 12))
+        .expect("hair");
+    let head = sphere_head(ctx);
+    let t = OffscreenTargets::new(ctx, [size, size], COLOR_FORMAT).expect("targets");
+    let camera = Camera::look_at(
+        Vec3::new(2.6, 1.2, 4.4),
+        Vec3::new(0.0, -0.45, 0.0),
+        Vec3::Y,
+        45f32.to_radians(),
+        0.1,
+        20.0,
+        [size, size],
+    );
+    let inputs = FrameInputs {
+        camera,
+        lights,
+        ambient: Vec3::splat(0.06),
+        material: Material::default(),
+        hair: Some(&hair),
+        head: Some(&head),
+        clear: Some(BACKGROUND),
+    };
+    let stats = renderer.render(ctx, &t.targets(), &inputs).expect("frame");
+    (stats, srgb_image(ctx, &t.color))
 }
 
 /// Compare `image` with the golden PNG `tests/golden/{name}.png` by mean FLIP (design rule 7),
