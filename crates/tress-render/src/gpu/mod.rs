@@ -19,6 +19,21 @@ pub use target::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTargets, TargetFormats, Ta
 pub(crate) use timer::GpuTimer;
 pub use timer::{PassTiming, Timings};
 
+/// A uniform buffer holding `value`, writable by the queue.
+pub(crate) fn uniform_buffer<T: bytemuck::Pod>(
+    ctx: &GpuContext,
+    label: &str,
+    value: &T,
+) -> wgpu::Buffer {
+    use wgpu::util::DeviceExt;
+    ctx.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytemuck::bytes_of(value),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        })
+}
+
 /// Bytes a texture's texels take (every mip level and array layer; depth formats by their
 /// depth aspect). The driver may pad; this is the logical size.
 pub fn texture_bytes(t: &wgpu::Texture) -> u64 {

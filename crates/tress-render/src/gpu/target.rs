@@ -1,7 +1,7 @@
 //! Render targets: the caller's views ([`Targets`]) and an offscreen pair for headless rendering
 //! ([`OffscreenTargets`]).
 
-use crate::{GpuContext, RenderError};
+use crate::{Camera, GpuContext, MAX_LIGHTS, RenderError};
 
 /// Default color format of offscreen targets: linear half floats. Hair is many thin, partly
 /// transparent layers blended together, so blending in linear space with more than 8 bits per
@@ -41,6 +41,31 @@ pub struct Targets<'a> {
 }
 
 impl Targets<'_> {
+    /// What every renderer checks first in a frame: the targets (see [`Targets::validate`]), a
+    /// valid camera whose viewport is the targets' size, and at most [`MAX_LIGHTS`] lights.
+    /// Returns the size in pixels.
+    pub(crate) fn validate_view(
+        &self,
+        formats: TargetFormats,
+        camera: &Camera,
+        lights: usize,
+    ) -> Result<[u32; 2], RenderError> {
+        let size = self.validate(formats)?;
+        camera.validate()?;
+        if camera.viewport != size {
+            return Err(RenderError::Target(format!(
+                "camera viewport {:?} differs from the target size {size:?}",
+                camera.viewport
+            )));
+        }
+        if lights > MAX_LIGHTS {
+            return Err(RenderError::Invalid(format!(
+                "{lights} lights given, at most {MAX_LIGHTS} supported"
+            )));
+        }
+        Ok(size)
+    }
+
     /// Check formats, usages and sizes; returns the size in pixels.
     pub fn validate(&self, formats: TargetFormats) -> Result<[u32; 2], RenderError> {
         let color = self.color.texture();

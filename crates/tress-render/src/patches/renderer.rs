@@ -13,7 +13,6 @@
 
 use glam::Vec3;
 use tress_hair::patches::HairTextures;
-use wgpu::util::DeviceExt;
 
 use super::passes::PassShader;
 use super::{
@@ -21,10 +20,10 @@ use super::{
     RenderScheme, TextureSlot, ZPrime,
 };
 use crate::gpu::types::{CameraUniform, LightsUniform};
-use crate::gpu::{GpuTimer, TargetFormats, Targets, Timings};
+use crate::gpu::{GpuTimer, TargetFormats, Targets, Timings, uniform_buffer};
 use crate::head::HeadGeometry;
 use crate::stats::{ReadbackRing, SlotInfo, StatsReadback};
-use crate::{Camera, DirectionalLight, GpuContext, MAX_LIGHTS, RenderError};
+use crate::{Camera, DirectionalLight, GpuContext, RenderError};
 
 /// Everything a patch frame draws. Plain data: the application owns geometry and targets.
 #[derive(Clone, Debug)]
@@ -86,15 +85,6 @@ pub struct PatchRenderer {
     ring: ReadbackRing,
     stats_readback: StatsReadback,
     frame: u64,
-}
-
-fn uniform_buffer<T: bytemuck::Pod>(ctx: &GpuContext, label: &str, value: &T) -> wgpu::Buffer {
-    ctx.device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents: bytemuck::bytes_of(value),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        })
 }
 
 fn generate_textures(settings: &PatchSettings) -> Result<HairTextures, RenderError> {
@@ -318,20 +308,7 @@ impl PatchRenderer {
         inputs: &PatchFrameInputs<'_>,
     ) -> Result<PatchFrameStats, RenderError> {
         // ---- validate inputs (never panic on user data)
-        let size = targets.validate(self.formats)?;
-        inputs.camera.validate()?;
-        if inputs.camera.viewport != size {
-            return Err(RenderError::Target(format!(
-                "camera viewport {:?} differs from the target size {size:?}",
-                inputs.camera.viewport
-            )));
-        }
-        if inputs.lights.len() > MAX_LIGHTS {
-            return Err(RenderError::Invalid(format!(
-                "{} lights given, at most {MAX_LIGHTS} supported",
-                inputs.lights.len()
-            )));
-        }
+        let size = targets.validate_view(self.formats, &inputs.camera, inputs.lights.len())?;
         if !inputs.ambient.is_finite() || !inputs.head_color.is_finite() {
             return Err(RenderError::Invalid(
                 "ambient light and head color must be finite".into(),

@@ -18,7 +18,6 @@ use std::time::Instant;
 
 use glam::Vec3;
 use tress_satf::online::ShadowApprox;
-use wgpu::util::DeviceExt;
 
 use super::cluster_shadow::ShadowTargets;
 use super::index_calc::Uniforms;
@@ -28,9 +27,9 @@ use super::{
     SatfGeometry, SatfHead, SatfSettings, StageTiming, TextureMap,
 };
 use crate::gpu::types::{CameraUniform, LightsUniform, SatfCounters, SatfParams};
-use crate::gpu::{PassTiming, TargetFormats, Targets, Timings, read_buffer};
+use crate::gpu::{PassTiming, TargetFormats, Targets, Timings, read_buffer, uniform_buffer};
 use crate::head::HeadGeometry;
-use crate::{Camera, DirectionalLight, GpuContext, MAX_LIGHTS, RenderError};
+use crate::{Camera, DirectionalLight, GpuContext, RenderError};
 
 /// Everything a SATF frame draws. Plain data: the application owns geometry and targets.
 #[derive(Clone, Copy, Debug)]
@@ -289,15 +288,6 @@ pub struct SatfRenderer {
     frame: u64,
 }
 
-fn uniform_buffer<T: bytemuck::Pod>(ctx: &GpuContext, label: &str, value: &T) -> wgpu::Buffer {
-    ctx.device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents: bytemuck::bytes_of(value),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        })
-}
-
 /// The sphere around two spheres.
 fn union_sphere(a: (Vec3, f32), b: (Vec3, f32)) -> (Vec3, f32) {
     let d = a.0.distance(b.0);
@@ -463,20 +453,7 @@ impl SatfRenderer {
         inputs: &SatfFrameInputs<'_>,
     ) -> Result<SatfFrameStats, RenderError> {
         // ---- validate inputs (never panic on user data)
-        let size = targets.validate(self.formats)?;
-        inputs.camera.validate()?;
-        if inputs.camera.viewport != size {
-            return Err(RenderError::Target(format!(
-                "camera viewport {:?} differs from the target size {size:?}",
-                inputs.camera.viewport
-            )));
-        }
-        if inputs.lights.len() > MAX_LIGHTS {
-            return Err(RenderError::Invalid(format!(
-                "{} lights given, at most {MAX_LIGHTS} supported",
-                inputs.lights.len()
-            )));
-        }
+        let size = targets.validate_view(self.formats, &inputs.camera, inputs.lights.len())?;
         if !(inputs.ambient.is_finite() && inputs.head_color.is_finite()) {
             return Err(RenderError::Invalid(
                 "ambient light or head color is not finite".into(),
