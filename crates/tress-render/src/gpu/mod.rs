@@ -2,6 +2,7 @@
 //! queries, the GPU-visible struct types and the pipeline builders the passes share.
 
 mod context;
+pub(crate) mod light_maps;
 pub(crate) mod pipeline;
 mod readback;
 mod target;

@@ -1,12 +1,10 @@
 //! [`ClusterShadow`], owner of `cluster_shadow.wgsl` (Table 1, "shadowing", with
 //! [`super::SMaps`]).
 
-use wgpu::util::DeviceExt;
-
 use super::SatfGeometry;
 use super::passes::{Slot, layout};
-use crate::bind::bind_group;
 use crate::gpu::DEPTH_FORMAT;
+use crate::gpu::light_maps::{LightCameras, layer_views, per_light_texture};
 use crate::gpu::pipeline::{RasterPipeline, depth_test, pipeline_layout};
 use crate::gpu::types::CameraUniform;
 use crate::head::{HEAD_VERTEX_LAYOUT, HeadGeometry};
@@ -48,36 +46,11 @@ impl ShadowTargets {
         }
         ctx.scoped("creating the SATF shadow maps", || {
             let make = |name: &str, format| {
-                ctx.device.create_texture(&wgpu::TextureDescriptor {
-                    label: Some(&format!("satf/cluster_shadow/{name}")),
-                    size: wgpu::Extent3d {
-                        width: size,
-                        height: size,
-                        depth_or_array_layers: MAX_LIGHTS as u32,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                        | wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                })
+                per_light_texture(ctx, &format!("satf/cluster_shadow/{name}"), size, format)
             };
             let depth = make("depth", DEPTH_FORMAT);
             let ids = make("ids", wgpu::TextureFormat::R32Uint);
-            let layers = |t: &wgpu::Texture| -> Vec<wgpu::TextureView> {
-                (0..MAX_LIGHTS as u32)
-                    .map(|i| {
-                        t.create_view(&wgpu::TextureViewDescriptor {
-                            dimension: Some(wgpu::TextureViewDimension::D2),
-                            base_array_layer: i,
-                            array_layer_count: Some(1),
-                            ..Default::default()
-                        })
-                    })
-                    .collect()
-            };
+            let layers = |t: &wgpu::Texture| layer_views(t, |_| None);
             let array = |t: &wgpu::Texture| {
                 t.create_view(&wgpu::TextureViewDescriptor {
                     dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -101,7 +74,7 @@ impl ShadowTargets {
 pub struct ClusterShadow {
     layer_pipeline: wgpu::RenderPipeline,
     head_pipeline: wgpu::RenderPipeline,
-    cameras: Vec<(wgpu::Buffer, wgpu::BindGroup)>,
+    cameras: LightCameras,
 }
 
 impl ClusterShadow {
@@ -143,27 +116,13 @@ impl ClusterShadow {
                 "vs_head",
                 HEAD_VERTEX_LAYOUT,
             );
-            let cameras = (0..MAX_LIGHTS)
-                .map(|i| {
-                    let buffer = ctx
-                        .device
-                        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                            label: Some(&format!("satf/cluster_shadow/camera-{i}")),
-                            contents: bytemuck::bytes_of(&CameraUniform::default()),
-                            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                        });
-                    let bind = bind_group(
-                        ctx,
-                        &format!("satf/cluster_shadow/bind-group-{i}"),
-                        &group_layout,
-                        &[
-                            (0, buffer.as_entire_binding()),
-                            (1, params.as_entire_binding()),
-                        ],
-                    );
-                    (buffer, bind)
-                })
-                .collect();
+            let cameras = LightCameras::new(
+                ctx,
+                "satf/cluster_shadow",
+                "bind-group",
+                &group_layout,
+                params,
+            );
             ClusterShadow {
                 layer_pipeline,
                 head_pipeline,
@@ -187,8 +146,7 @@ impl ClusterShadow {
     ) {
         let n = light_cameras.len().min(MAX_LIGHTS);
         for (i, cam) in light_cameras.iter().take(n).enumerate() {
-            ctx.queue
-                .write_buffer(&self.cameras[i].0, 0, bytemuck::bytes_of(cam));
+            let camera = self.cameras.set(ctx, i, cam);
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("satf/cluster_shadow/pass"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -212,7 +170,7 @@ impl ClusterShadow {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_bind_group(0, &self.cameras[i].1, &[]);
+            pass.set_bind_group(0, camera, &[]);
             if let Some(head) = head {
                 pass.set_pipeline(&self.head_pipeline);
                 head.draw(&mut pass);

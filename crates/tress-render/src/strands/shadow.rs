@@ -1,9 +1,8 @@
 //! [`ShadowMap`], owner of `shadow.wgsl`.
 
-use wgpu::util::DeviceExt;
-
 use crate::bind::Layouts;
 use crate::gpu::DEPTH_FORMAT;
+use crate::gpu::light_maps::{LightCameras, layer_views, per_light_texture};
 use crate::gpu::pipeline::{RasterPipeline, depth_test, pipeline_layout};
 use crate::gpu::types::CameraUniform;
 use crate::head::{HEAD_VERTEX_LAYOUT, HeadGeometry};
@@ -18,7 +17,7 @@ pub struct ShadowMap {
     head_pipeline: wgpu::RenderPipeline,
     size: u32,
     layers: Vec<wgpu::TextureView>,
-    cameras: Vec<(wgpu::Buffer, wgpu::BindGroup)>,
+    cameras: LightCameras,
 }
 
 impl ShadowMap {
@@ -66,58 +65,9 @@ impl ShadowMap {
                 "vs_head",
                 &[Some(HEAD_VERTEX_LAYOUT)],
             );
-            let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("strands/shadow/maps"),
-                size: wgpu::Extent3d {
-                    width: size,
-                    height: size,
-                    depth_or_array_layers: MAX_LIGHTS as u32,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: DEPTH_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            });
-            let layers = (0..MAX_LIGHTS as u32)
-                .map(|i| {
-                    texture.create_view(&wgpu::TextureViewDescriptor {
-                        label: Some(&format!("strands/shadow/map-{i}")),
-                        dimension: Some(wgpu::TextureViewDimension::D2),
-                        base_array_layer: i,
-                        array_layer_count: Some(1),
-                        ..Default::default()
-                    })
-                })
-                .collect();
-            let cameras = (0..MAX_LIGHTS)
-                .map(|i| {
-                    let buffer = ctx
-                        .device
-                        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                            label: Some(&format!("strands/shadow/camera-{i}")),
-                            contents: bytemuck::bytes_of(&CameraUniform::default()),
-                            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                        });
-                    let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some(&format!("strands/shadow/view-{i}")),
-                        layout: &layouts.view,
-                        entries: &[
-                            wgpu::BindGroupEntry {
-                                binding: 0,
-                                resource: buffer.as_entire_binding(),
-                            },
-                            wgpu::BindGroupEntry {
-                                binding: 1,
-                                resource: params.as_entire_binding(),
-                            },
-                        ],
-                    });
-                    (buffer, group)
-                })
-                .collect();
+            let texture = per_light_texture(ctx, "strands/shadow/maps", size, DEPTH_FORMAT);
+            let layers = layer_views(&texture, |i| Some(format!("strands/shadow/map-{i}")));
+            let cameras = LightCameras::new(ctx, "strands/shadow", "view", &layouts.view, params);
             ShadowMap {
                 strand_pipeline,
                 head_pipeline,
@@ -158,8 +108,7 @@ impl ShadowMap {
     ) {
         let n = light_cameras.len().min(MAX_LIGHTS);
         for (i, cam) in light_cameras.iter().take(n).enumerate() {
-            ctx.queue
-                .write_buffer(&self.cameras[i].0, 0, bytemuck::bytes_of(cam));
+            let camera = self.cameras.set(ctx, i, cam);
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("strands/shadow/pass"),
                 color_attachments: &[],
@@ -175,7 +124,7 @@ impl ShadowMap {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_bind_group(0, &self.cameras[i].1, &[]);
+            pass.set_bind_group(0, camera, &[]);
             if let Some(head) = head {
                 pass.set_pipeline(&self.head_pipeline);
                 head.draw(&mut pass);
