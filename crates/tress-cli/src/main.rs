@@ -45,6 +45,9 @@ enum Command {
     /// Open the interactive viewer on a scene, hair files or the demo: orbit, switch
     /// techniques, change settings, see per-pass timings and GPU memory.
     View(cmd::view::Args),
+    /// Benchmark every technique over the hybrid paper's sweeps (CSV, charts, summary.md), or
+    /// with --quality measure image quality against the CPU reference.
+    Bench(cmd::bench::Args),
 }
 
 fn main() -> ExitCode {
@@ -61,6 +64,7 @@ fn main() -> ExitCode {
         Command::Compare(a) => cmd::compare::run(a),
         Command::SatfBake(a) => cmd::satf_bake::run(a),
         Command::View(a) => cmd::view::run(a),
+        Command::Bench(a) => cmd::bench::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

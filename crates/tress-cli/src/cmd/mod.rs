@@ -2,6 +2,7 @@
 
 pub(crate) mod animate;
 pub(crate) mod bake_ao;
+pub(crate) mod bench;
 pub(crate) mod cards;
 pub(crate) mod compare;
 pub(crate) mod compare_images;
