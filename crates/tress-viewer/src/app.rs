@@ -134,7 +134,7 @@ impl ApplicationHandler for App {
                     Key::Named(NamedKey::Escape) => None,
                     Key::Character(c) => match c.to_lowercase().as_str() {
                         "q" => None,
-                        "t" => Some(Some(Action::Technique(run.next_technique()))),
+                        "t" => Some(Some(Action::NextTechnique)),
                         "l" => Some(Some(Action::ToggleLights)),
                         "s" => Some(Some(Action::Screenshot)),
                         "r" => Some(Some(Action::Rebuild)),
@@ -235,9 +235,14 @@ struct Running {
     interval_ms_sum: f64,
 }
 
-/// An error as one line (its causes joined), for the panel.
+/// An error as one line (its causes joined, control characters and runs of white space
+/// turned into one space), for the panel.
 fn one_line(e: &anyhow::Error) -> String {
-    format!("{e:#}").replace('\n', " ")
+    format!("{e:#}")
+        .split(|c: char| c.is_whitespace() || c.is_control())
+        .filter(|w| !w.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// `inputs` as the panel names them.
@@ -337,13 +342,29 @@ impl Running {
         })
     }
 
-    /// The technique after the current one in [`TECHNIQUES`] order.
-    fn next_technique(&self) -> &'static str {
+    /// Switch to the first technique after the current one in [`TECHNIQUES`] order that can
+    /// draw this scene; those that cannot (SATF without a database, say) are skipped and named.
+    fn next_technique(&mut self) -> Result<String> {
+        let ctx = &self.display.ctx;
         let i = TECHNIQUES
             .iter()
             .position(|t| *t == self.session.technique())
             .unwrap_or(0);
-        TECHNIQUES[(i + 1) % TECHNIQUES.len()]
+        let mut skipped = Vec::new();
+        for step in 1..TECHNIQUES.len() {
+            let t = TECHNIQUES[(i + step) % TECHNIQUES.len()];
+            match self.session.set_technique(ctx, t) {
+                Ok(()) if skipped.is_empty() => return Ok(format!("technique {t}")),
+                Ok(()) => {
+                    return Ok(format!("technique {t} (skipped {})", skipped.join("; ")));
+                }
+                Err(e) => skipped.push(format!("{t}: {e}")),
+            }
+        }
+        Err(anyhow!(
+            "no other technique can draw this scene ({})",
+            skipped.join("; ")
+        ))
     }
 
     /// The scene's lights, turned about the up axis by the rotation so far.
@@ -382,6 +403,7 @@ impl Running {
                 }
                 Ok(Some(format!("set {kv}")))
             }
+            Action::NextTechnique => self.next_technique().map(Some),
             Action::Technique(t) => {
                 self.session
                     .set_technique(ctx, t)
@@ -648,15 +670,13 @@ fn new_session(
         satf_database: session_loader(loader),
         readback: StatsReadback::Deferred,
     };
-    let session =
-        Session::new(ctx, TargetFormats::default(), scene, options).with_context(|| {
-            if inputs.is_empty() {
-                "the built-in demo".to_string()
-            } else {
-                describe(inputs)
-            }
-        })?;
-    Ok(session)
+    // Loading errors name the file; only the demo needs naming.
+    let session = Session::new(ctx, TargetFormats::default(), scene, options);
+    if inputs.is_empty() {
+        Ok(session.context("the built-in demo")?)
+    } else {
+        Ok(session?)
+    }
 }
 
 /// The technique's statistics in one line.

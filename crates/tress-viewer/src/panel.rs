@@ -24,6 +24,8 @@ pub(crate) enum Action {
     Set(String),
     /// Switch technique.
     Technique(&'static str),
+    /// Switch to the next technique in [`TECHNIQUES`] order that can draw (the T key).
+    NextTechnique,
     /// Open files (a scene, hair files or a card OBJ) as a new session.
     Open(Vec<PathBuf>),
     /// Rebuild the session (the R key).
