@@ -233,6 +233,35 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>) -> Result<()> {
                 });
             }
 
+            // The noise floor: the reference traced again with another seed, scored like a
+            // technique. No technique can be expected to score better than this.
+            let pb = progress::spinner(format!("{name} x{d}: the reference's noise"));
+            let result = (|| -> Result<_> {
+                let again = tress_trace::render_reference(
+                    &traced,
+                    &TraceSettings {
+                        seed: settings.seed + 1,
+                        ..settings.clone()
+                    },
+                )?;
+                score(
+                    &reference,
+                    &again,
+                    &mask,
+                    &run.dir,
+                    &format!("{tag}-reference-seed2"),
+                )
+            })();
+            pb.finish_and_clear();
+            rows.push(Row {
+                scene: name.clone(),
+                distance: d,
+                coverage_pct: coverage,
+                technique: "reference",
+                aov: "color",
+                result: result.map_err(|e| format!("{e:#}")),
+            });
+
             // The volume's AO alone against the traced AO.
             let pb = progress::spinner(format!("{name} x{d}: ambient occlusion"));
             let result = (|| -> Result<_> {
@@ -388,7 +417,8 @@ fn markdown(rows: &[Row], adapter: &str, size: [u32; 2], spp: u32) -> String {
          (`tress-trace`, {spp} samples per pixel), {}x{}, GPU images from **{adapter}**. \
          FLIP is the mean FLIP error over the frame (0 identical, lower is better), FLIP on \
          hair its mean over the pixels the hair covers (which the background does not dilute); \
-         the AO row compares the \
+         the `reference` row is the reference traced again with another seed: its noise, \
+         a floor no technique can beat at this sample count; the AO row compares the \
          volume's ambient occlusion alone with the traced AO over the hair (see \
          `crates/tress-cli/src/cmd/bench/quality.rs`). Distances are multiples of the scene \
          camera's.\n\n| scene | distance | coverage % | technique | aov | FLIP | FLIP on hair | RMSE | SSIM | image | FLIP map |\n\
