@@ -41,7 +41,8 @@ pub(crate) struct Args {
     #[arg(short, long)]
     output: PathBuf,
     /// A reduced run for a CPU Vulkan: two points per sweep, 320x180, 1 warm-up and 2 timed
-    /// frames, a quarter of the scene's strands.
+    /// frames, a quarter of the scene's strands (with --quality: the first scene only, two
+    /// distances, 16 spp, 192x108).
     #[arg(long)]
     quick: bool,
     /// Run only these sweeps (repeatable): distance, strands, steps, resolution, k, patches.
@@ -50,13 +51,13 @@ pub(crate) struct Args {
     /// Measure image quality against the CPU reference instead of speed (see `--spp`).
     #[arg(long)]
     quality: bool,
-    /// Reference samples per pixel of `--quality`.
+    /// Reference samples per pixel of `--quality` (default 64, 16 with --quick).
     #[arg(long)]
     spp: Option<u32>,
-    /// Image width (default 1280, 320 with --quick).
+    /// Image width (default 1280, 320 with --quick; --quality: 384, 192 with --quick).
     #[arg(long)]
     width: Option<u32>,
-    /// Image height (default 720, 180 with --quick).
+    /// Image height (default 720, 180 with --quick; --quality: 216, 108 with --quick).
     #[arg(long)]
     height: Option<u32>,
     /// Frames rendered before timing each point (default 5, 1 with --quick).
