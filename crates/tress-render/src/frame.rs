@@ -22,8 +22,9 @@ mod setup;
 
 use crate::bind::Layouts;
 use crate::gpu::types::{self, LightsUniform, VolumeParams};
-use crate::gpu::{GpuTimer, TargetFormats, Targets};
+use crate::gpu::{GpuTimer, TargetFormats, Targets, clear_loads};
 use crate::head::{HeadGeometry, HeadPass};
+use crate::inputs::union_sphere;
 use crate::lod::{FramePlan, HybridSettings, LodBlend, LodLayers, Technique};
 use crate::stats::{FrameStats, ReadbackRing, SlotInfo, StatsReadback, VolumeFrame};
 use crate::strands::ppll_build::PpllBuildInputs;
@@ -101,19 +102,6 @@ pub struct Renderer {
     ring: ReadbackRing,
     stats_readback: StatsReadback,
     frame: u64,
-}
-
-/// The sphere around two spheres.
-fn union_sphere(a: (Vec3, f32), b: (Vec3, f32)) -> (Vec3, f32) {
-    let d = a.0.distance(b.0);
-    if d + b.1 <= a.1 {
-        return a;
-    }
-    if d + a.1 <= b.1 {
-        return b;
-    }
-    let r = (d + a.1 + b.1) * 0.5;
-    (a.0 + (b.0 - a.0) / d * (r - a.1), r)
 }
 
 impl Renderer {
@@ -332,33 +320,12 @@ impl Renderer {
             }
             // ---- opaque head, depth written
             {
-                let (color_load, depth_load) = match inputs.clear {
-                    Some(c) => (wgpu::LoadOp::Clear(c), wgpu::LoadOp::Clear(1.0)),
-                    None => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
-                };
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("head/head_pass/pass"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: targets.color,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: color_load,
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: targets.depth,
-                        depth_ops: Some(wgpu::Operations {
-                            load: depth_load,
-                            store: wgpu::StoreOp::Store,
-                        }),
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: timer.render_writes("head", true, true),
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
+                let mut pass = targets.begin_pass(
+                    &mut encoder,
+                    "head/head_pass/pass",
+                    clear_loads(inputs.clear),
+                    timer.render_writes("head", true, true),
+                );
                 if let Some(head) = inputs.head {
                     pass.set_bind_group(0, view, &[]);
                     pass.set_bind_group(1, lighting, &[]);
@@ -466,19 +433,4 @@ impl Renderer {
 
 fn pool_capacity(pool: Option<&PpllPool>) -> u32 {
     pool.map_or(0, |p| p.capacity)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn union_sphere_contains_both() {
-        let a = (Vec3::ZERO, 1.0);
-        let b = (Vec3::new(4.0, 0.0, 0.0), 1.0);
-        let (c, r) = union_sphere(a, b);
-        assert!((c - Vec3::new(2.0, 0.0, 0.0)).length() < 1e-6 && (r - 3.0).abs() < 1e-6);
-        assert_eq!(union_sphere(a, (Vec3::ZERO, 0.5)), a);
-        assert_eq!(union_sphere((Vec3::ZERO, 0.5), a), a);
-    }
 }

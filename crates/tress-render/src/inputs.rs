@@ -238,6 +238,19 @@ impl Material {
     }
 }
 
+/// The sphere around two spheres (centre, radius).
+pub(crate) fn union_sphere(a: (Vec3, f32), b: (Vec3, f32)) -> (Vec3, f32) {
+    let d = a.0.distance(b.0);
+    if d + b.1 <= a.1 {
+        return a;
+    }
+    if d + a.1 <= b.1 {
+        return b;
+    }
+    let r = (d + a.1 + b.1) * 0.5;
+    (a.0 + (b.0 - a.0) / d * (r - a.1), r)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -265,6 +278,16 @@ mod tests {
             ..cam
         };
         assert!(bad.validate().is_err());
+    }
+
+    #[test]
+    fn union_sphere_contains_both() {
+        let a = (Vec3::ZERO, 1.0);
+        let b = (Vec3::new(4.0, 0.0, 0.0), 1.0);
+        let (c, r) = union_sphere(a, b);
+        assert!((c - Vec3::new(2.0, 0.0, 0.0)).length() < 1e-6 && (r - 3.0).abs() < 1e-6);
+        assert_eq!(union_sphere(a, (Vec3::ZERO, 0.5)), a);
+        assert_eq!(union_sphere((Vec3::ZERO, 0.5), a), a);
     }
 
     #[test]

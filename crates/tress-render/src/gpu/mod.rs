@@ -16,6 +16,7 @@ pub use context::{
 pub use readback::{
     LinearImage, f16_to_f32, linear_to_srgb, read_buffer, read_texture, srgb_to_linear,
 };
+pub(crate) use target::clear_loads;
 pub use target::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTargets, TargetFormats, Targets};
 pub(crate) use timer::GpuTimer;
 pub use timer::{PassTiming, Timings};

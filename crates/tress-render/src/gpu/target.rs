@@ -40,7 +40,51 @@ pub struct Targets<'a> {
     pub depth: &'a wgpu::TextureView,
 }
 
+/// Load operations of a frame's first pass: clear to `clear` (and depth to 1), or keep what the
+/// targets hold when the frame draws over the caller's content.
+pub(crate) fn clear_loads(
+    clear: Option<wgpu::Color>,
+) -> (wgpu::LoadOp<wgpu::Color>, wgpu::LoadOp<f32>) {
+    match clear {
+        Some(c) => (wgpu::LoadOp::Clear(c), wgpu::LoadOp::Clear(1.0)),
+        None => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+    }
+}
+
 impl Targets<'_> {
+    /// A render pass over both targets with the given load operations, storing both.
+    pub(crate) fn begin_pass<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        label: &str,
+        (color_load, depth_load): (wgpu::LoadOp<wgpu::Color>, wgpu::LoadOp<f32>),
+        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) -> wgpu::RenderPass<'e> {
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: self.color,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: color_load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: self.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: depth_load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+
     /// What every renderer checks first in a frame: the targets (see [`Targets::validate`]), a
     /// valid camera whose viewport is the targets' size, and at most [`MAX_LIGHTS`] lights.
     /// Returns the size in pixels.

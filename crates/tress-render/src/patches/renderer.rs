@@ -20,7 +20,7 @@ use super::{
     RenderScheme, TextureSlot, ZPrime,
 };
 use crate::gpu::types::{CameraUniform, LightsUniform};
-use crate::gpu::{GpuTimer, TargetFormats, Targets, Timings, uniform_buffer};
+use crate::gpu::{GpuTimer, TargetFormats, Targets, Timings, clear_loads, uniform_buffer};
 use crate::head::HeadGeometry;
 use crate::stats::{ReadbackRing, SlotInfo, StatsReadback};
 use crate::{Camera, DirectionalLight, GpuContext, RenderError};
@@ -358,15 +358,10 @@ impl PatchRenderer {
                 });
             // ---- the head first, depth written (slide "Performance Tuning")
             {
-                let (color_load, depth_load) = match inputs.clear {
-                    Some(c) => (wgpu::LoadOp::Clear(c), wgpu::LoadOp::Clear(1.0)),
-                    None => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
-                };
-                let mut pass = begin_pass(
+                let mut pass = targets.begin_pass(
                     &mut encoder,
-                    targets,
                     "patches/head/pass",
-                    (color_load, depth_load),
+                    clear_loads(inputs.clear),
                     timer.render_writes("head", true, true),
                 );
                 if let Some(head) = inputs.head {
@@ -379,9 +374,8 @@ impl PatchRenderer {
             if let Some(geometry) = patches {
                 for p in shade.passes() {
                     let label = format!("{}/pass", p.name);
-                    let mut pass = begin_pass(
+                    let mut pass = targets.begin_pass(
                         &mut encoder,
-                        targets,
                         &label,
                         (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
                         timer.render_writes(p.name, true, true),
@@ -426,37 +420,4 @@ impl PatchRenderer {
             timings: report.map(|r| r.timings),
         })
     }
-}
-
-/// A render pass over both targets with the given load operations.
-fn begin_pass<'e>(
-    encoder: &'e mut wgpu::CommandEncoder,
-    targets: &Targets<'_>,
-    label: &str,
-    (color_load, depth_load): (wgpu::LoadOp<wgpu::Color>, wgpu::LoadOp<f32>),
-    timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
-) -> wgpu::RenderPass<'e> {
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(label),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: targets.color,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: color_load,
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: targets.depth,
-            depth_ops: Some(wgpu::Operations {
-                load: depth_load,
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
-        timestamp_writes,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    })
 }

@@ -21,14 +21,16 @@ use tress_satf::online::ShadowApprox;
 
 use super::cluster_shadow::ShadowTargets;
 use super::index_calc::Uniforms;
-use super::texture_map::TextureMapTargets;
 use super::{
     ClusterShadow, IndexCalc, Lighting, MapBuild, PASS_NAMES, Reflectance, SMaps, SatfDatabase,
     SatfGeometry, SatfHead, SatfSettings, StageTiming, TextureMap,
 };
 use crate::gpu::types::{CameraUniform, LightsUniform, SatfCounters, SatfParams};
-use crate::gpu::{PassTiming, TargetFormats, Targets, Timings, read_buffer, uniform_buffer};
+use crate::gpu::{
+    PassTiming, TargetFormats, Targets, Timings, clear_loads, read_buffer, uniform_buffer,
+};
 use crate::head::HeadGeometry;
+use crate::inputs::union_sphere;
 use crate::{Camera, DirectionalLight, GpuContext, RenderError};
 
 /// Everything a SATF frame draws. Plain data: the application owns geometry and targets.
@@ -288,19 +290,6 @@ pub struct SatfRenderer {
     frame: u64,
 }
 
-/// The sphere around two spheres.
-fn union_sphere(a: (Vec3, f32), b: (Vec3, f32)) -> (Vec3, f32) {
-    let d = a.0.distance(b.0);
-    if d + b.1 <= a.1 {
-        return a;
-    }
-    if d + a.1 <= b.1 {
-        return b;
-    }
-    let r = (d + a.1 + b.1) * 0.5;
-    (a.0 + (b.0 - a.0) / d * (r - a.1), r)
-}
-
 /// Cluster indices sorted back to front from `camera` by their bounding spheres' centres.
 pub(crate) fn back_to_front(camera: &Camera, bounds: &[(Vec3, f32)]) -> Vec<u32> {
     let eye = camera.eye();
@@ -553,37 +542,12 @@ impl SatfRenderer {
                 }
                 // ---- opaque head, depth written
                 {
-                    let (color_load, depth_load) = match inputs.clear {
-                        Some(c) => (wgpu::LoadOp::Clear(c), wgpu::LoadOp::Clear(1.0)),
-                        None => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
-                    };
-                    let mut pass = stages
-                        .encoder
-                        .begin_render_pass(&wgpu::RenderPassDescriptor {
-                            label: Some("satf/head/pass"),
-                            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                                view: targets.color,
-                                depth_slice: None,
-                                resolve_target: None,
-                                ops: wgpu::Operations {
-                                    load: color_load,
-                                    store: wgpu::StoreOp::Store,
-                                },
-                            })],
-                            depth_stencil_attachment: Some(
-                                wgpu::RenderPassDepthStencilAttachment {
-                                    view: targets.depth,
-                                    depth_ops: Some(wgpu::Operations {
-                                        load: depth_load,
-                                        store: wgpu::StoreOp::Store,
-                                    }),
-                                    stencil_ops: None,
-                                },
-                            ),
-                            timestamp_writes: timer.render("satf/head", true, true),
-                            occlusion_query_set: None,
-                            multiview_mask: None,
-                        });
+                    let mut pass = targets.begin_pass(
+                        &mut stages.encoder,
+                        "satf/head/pass",
+                        clear_loads(inputs.clear),
+                        timer.render("satf/head", true, true),
+                    );
                     if let Some(head) = inputs.head {
                         self.head.draw(
                             ctx,
@@ -604,10 +568,7 @@ impl SatfRenderer {
                         &self.params,
                         g,
                         &order,
-                        TextureMapTargets {
-                            color: targets.color,
-                            depth: targets.depth,
-                        },
+                        targets,
                         timer.render("satf/texture_mapping", true, true),
                     );
                     stages.cut("satf/texture_mapping")?;

@@ -4,6 +4,7 @@ use super::SatfGeometry;
 use super::cluster_shadow::SATF_VERTEX_LAYOUT;
 use super::passes::{Slot, layout};
 use crate::bind::bind_group;
+use crate::gpu::Targets;
 use crate::gpu::pipeline::{RasterPipeline, depth_test, pipeline_layout, premultiplied_over};
 use crate::{GpuContext, RenderError, shaders};
 
@@ -15,12 +16,6 @@ pub struct TextureMap {
     layout: wgpu::BindGroupLayout,
     back: wgpu::RenderPipeline,
     front: wgpu::RenderPipeline,
-}
-
-/// What the texture mapping pass draws into.
-pub(crate) struct TextureMapTargets<'a> {
-    pub(crate) color: &'a wgpu::TextureView,
-    pub(crate) depth: &'a wgpu::TextureView,
 }
 
 impl TextureMap {
@@ -76,7 +71,7 @@ impl TextureMap {
         params: &wgpu::Buffer,
         geometry: &SatfGeometry,
         order: &[u32],
-        targets: TextureMapTargets<'_>,
+        targets: &Targets<'_>,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let a = &geometry.atlas;
@@ -92,29 +87,12 @@ impl TextureMap {
                 (4, wgpu::BindingResource::TextureView(&a.l_map)),
             ],
         );
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("satf/texture_map/pass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: targets.color,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: targets.depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: timestamps,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = targets.begin_pass(
+            encoder,
+            "satf/texture_map/pass",
+            (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+            timestamps,
+        );
         let l = &geometry.layout;
         if l.clusters == 0 {
             return;

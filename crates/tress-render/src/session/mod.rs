@@ -307,26 +307,23 @@ impl Session {
                 self.scene = scene;
                 Ok(())
             }
-            "patches" => {
-                let patches = self.patches.take();
+            "patches" | "satf" => {
+                // Drop what the table builds; `prepare` rebuilds it now if it is drawn.
+                let patches = if root == "patches" {
+                    self.patches.take()
+                } else {
+                    None
+                };
+                let satf = if root == "satf" {
+                    self.satf.take()
+                } else {
+                    None
+                };
                 let old = std::mem::replace(&mut self.scene, scene);
-                if self.technique == "patches"
-                    && let Err(e) = self.prepare(ctx)
-                {
+                if let Err(e) = self.prepare(ctx) {
                     self.scene = old;
-                    self.patches = patches;
-                    return Err(e);
-                }
-                Ok(())
-            }
-            "satf" => {
-                let satf = self.satf.take();
-                let old = std::mem::replace(&mut self.scene, scene);
-                if self.technique == "satf"
-                    && let Err(e) = self.prepare(ctx)
-                {
-                    self.scene = old;
-                    self.satf = satf;
+                    self.patches = self.patches.take().or(patches);
+                    self.satf = self.satf.take().or(satf);
                     return Err(e);
                 }
                 Ok(())
