@@ -5,6 +5,7 @@
 use anyhow::{Context, Result};
 use tress_render::session::{Memory, Session};
 use tress_render::{Camera, GpuContext, LinearImage, OffscreenTargets, Timings, read_texture};
+use tress_scene::Scene;
 
 /// Where a point's times come from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -70,25 +71,36 @@ pub(crate) fn mean_passes(frames: &[Option<Timings>]) -> Option<Vec<(String, f64
 /// Share of pixels whose color differs between two frames by more than 1/255 in a channel,
 /// percent (the two must be the same size).
 pub(crate) fn coverage_pct(with: &LinearImage, without: &LinearImage) -> f64 {
-    let n = with.pixels.len().min(without.pixels.len());
-    if n == 0 {
+    let mask = hair_mask(with, without);
+    if mask.is_empty() {
         return 0.0;
     }
-    let differs = with.pixels[..n]
-        .iter()
-        .zip(&without.pixels[..n])
-        .filter(|(a, b)| (0..3).any(|c| (a[c] - b[c]).abs() > 1.0 / 255.0))
-        .count();
-    100.0 * differs as f64 / n as f64
+    100.0 * mask.iter().filter(|m| **m).count() as f64 / mask.len() as f64
 }
 
-/// The scene camera moved `factor` times its distance away from its target along its view line.
-pub(crate) fn camera_at(session: &Session, size: [u32; 2], factor: f32) -> Camera {
-    let mut scene = session.scene().clone();
+/// Per pixel, whether two frames (with and without the hair) differ by more than 1/255 in a
+/// channel: the pixels the hair covers.
+pub(crate) fn hair_mask(with: &LinearImage, without: &LinearImage) -> Vec<bool> {
+    with.pixels
+        .iter()
+        .zip(&without.pixels)
+        .map(|(a, b)| (0..3).any(|c| (a[c] - b[c]).abs() > 1.0 / 255.0))
+        .collect()
+}
+
+/// `scene` with its camera moved `factor` times its distance away from its target along its
+/// view line (the far plane follows).
+pub(crate) fn scene_at(scene: &Scene, factor: f32) -> Scene {
+    let mut scene = scene.clone();
     let (eye, target) = (scene.camera.eye, scene.camera.target);
     scene.camera.eye = target + (eye - target) * factor;
     scene.camera.far = scene.camera.far.max(scene.camera.far * factor);
-    tress_render::PreparedScene::camera(&scene, size)
+    scene
+}
+
+/// The session's scene camera moved as [`scene_at`] moves it.
+pub(crate) fn camera_at(session: &Session, size: [u32; 2], factor: f32) -> Camera {
+    tress_render::PreparedScene::camera(&scene_at(session.scene(), factor), size)
 }
 
 /// Render `warmup` frames, then time `frames` frames, then measure the coverage on one frame

@@ -19,7 +19,7 @@ use tress_render::{COLOR_FORMAT, LinearImage, OffscreenTargets};
 use tress_scene::Scene;
 use tress_trace::{Aov, DisplayImage, Image, TraceSettings, metrics};
 
-use super::measure::{camera_at, coverage_pct};
+use super::measure::{camera_at, coverage_pct, hair_mask, scene_at};
 use super::report::write;
 use super::{Run, open_session};
 use crate::progress;
@@ -90,15 +90,6 @@ fn ao_ratio(with_ao: &LinearImage, without_ao: &LinearImage, mask: &[bool]) -> I
         height: with_ao.height,
         pixels,
     }
-}
-
-/// Pixels where two frames (with and without hair) differ beyond one 8-bit level.
-fn hair_mask(with: &LinearImage, without: &LinearImage) -> Vec<bool> {
-    with.pixels
-        .iter()
-        .zip(&without.pixels)
-        .map(|(a, b)| (0..3).any(|c| (a[c] - b[c]).abs() > 1.0 / 255.0))
-        .collect()
 }
 
 fn save(img: &Image, path: &Path) -> Result<String> {
@@ -184,10 +175,7 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>) -> Result<()> {
             let tag = format!("{}-d{d}", slug(name));
             let camera = camera_at(&session, size, d);
             // The reference sees exactly the session's scene from the same camera.
-            let mut traced = session.scene().clone();
-            let (eye, target) = (traced.camera.eye, traced.camera.target);
-            traced.camera.eye = target + (eye - target) * d;
-            traced.camera.far = traced.camera.far.max(traced.camera.far * d);
+            let traced = scene_at(session.scene(), d);
             let pb = progress::spinner(format!("{name} x{d}: tracing the reference ({spp} spp)"));
             let settings = TraceSettings {
                 spp,
