@@ -1,0 +1,466 @@
+//! The running viewer's work ([`Running`]): a frame rendered by the session into the offscreen
+//! target, copied onto the window with the panel drawn over it; panel and key actions applied to
+//! the session; the report at the end. The event handling that drives it is in `app.rs`.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{Result, anyhow};
+use glam::Quat;
+use tress_render::session::{FrameDetail, Session, SessionOptions, TECHNIQUES};
+use tress_render::{
+    COLOR_FORMAT, DirectionalLight, OffscreenTargets, StatsReadback, TargetFormats, read_texture,
+};
+use winit::event_loop::ActiveEventLoop;
+use winit::window::Window;
+
+use crate::display::Display;
+use crate::orbit::OrbitCamera;
+use crate::panel::{self, Action, FrameInfo, PanelState};
+use crate::present::Presenter;
+use crate::{ViewerOptions, ViewerReport, reload};
+
+use super::*;
+
+impl Running {
+    pub(super) fn new(
+        event_loop: &ActiveEventLoop,
+        options: &ViewerOptions,
+        loader: Option<SharedLoader>,
+    ) -> Result<Self> {
+        let [w, h] = options.size;
+        let window = Arc::new(
+            event_loop
+                .create_window(
+                    Window::default_attributes()
+                        .with_title("tress view")
+                        .with_inner_size(winit::dpi::PhysicalSize::new(w, h)),
+                )
+                .context("creating the window")?,
+        );
+        let display = Display::new(event_loop.owned_display_handle(), Arc::clone(&window))?;
+        let ctx = &display.ctx;
+        let size = display.size();
+
+        let mut overrides = options.overrides.clone();
+        if let Some(t) = &options.technique {
+            overrides.push(format!("technique=\"{t}\""));
+        }
+        let session = new_session(
+            ctx,
+            &options.inputs,
+            size,
+            &overrides,
+            loader.as_ref(),
+            None,
+        )?;
+        let orbit = OrbitCamera::from_scene(&session.scene().camera);
+        let targets = OffscreenTargets::new(ctx, size, COLOR_FORMAT)?;
+
+        let egui_ctx = egui::Context::default();
+        let egui_state = egui_winit::State::new(
+            egui_ctx.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            window.theme(),
+            Some(ctx.caps.max_texture_2d as usize),
+        );
+        let egui_renderer = egui_wgpu::Renderer::new(
+            &ctx.device,
+            display.format(),
+            egui_wgpu::RendererOptions::default(),
+        );
+        let presenter = Presenter::new(&ctx.device, display.format());
+        let format = display.format();
+        tracing::info!(adapter = %ctx.adapter_info.name, surface = ?format, "tress view");
+        Ok(Running {
+            presenter,
+            egui_ctx,
+            egui_state,
+            egui_renderer,
+            session,
+            source: describe(&options.inputs),
+            orbit,
+            targets,
+            panel: PanelState::default(),
+            frame: None,
+            status: String::new(),
+            error: None,
+            ui_visible: true,
+            rotating: false,
+            light_angle: 0.0,
+            mouse: Mouse::default(),
+            dropped: Vec::new(),
+            actions: Vec::new(),
+            overrides: options.overrides.clone(),
+            loader,
+            started: Instant::now(),
+            last_frame: None,
+            frames: 0,
+            first_wall_ms: 0.0,
+            wall_ms_sum: 0.0,
+            interval_ms_sum: 0.0,
+            window,
+            display,
+        })
+    }
+
+    /// Switch to the first technique after the current one in [`TECHNIQUES`] order that can
+    /// draw this scene; those that cannot (SATF without a database, say) are skipped and named.
+    pub(super) fn next_technique(&mut self) -> Result<String> {
+        let ctx = &self.display.ctx;
+        let i = TECHNIQUES
+            .iter()
+            .position(|t| *t == self.session.technique())
+            .unwrap_or(0);
+        let mut skipped = Vec::new();
+        for step in 1..TECHNIQUES.len() {
+            let t = TECHNIQUES[(i + step) % TECHNIQUES.len()];
+            match self.session.set_technique(ctx, t) {
+                Ok(()) if skipped.is_empty() => return Ok(format!("technique {t}")),
+                Ok(()) => {
+                    return Ok(format!("technique {t} (skipped {})", skipped.join("; ")));
+                }
+                Err(e) => skipped.push(format!("{t}: {e}")),
+            }
+        }
+        Err(anyhow!(
+            "no other technique can draw this scene ({})",
+            skipped.join("; ")
+        ))
+    }
+
+    /// The scene's lights, turned about the up axis by the rotation so far.
+    pub(super) fn lights(&self) -> Vec<DirectionalLight> {
+        let turn = Quat::from_axis_angle(self.orbit.up(), self.light_angle);
+        self.session
+            .lights()
+            .iter()
+            .map(|l| DirectionalLight {
+                direction: turn * l.direction,
+                ..*l
+            })
+            .collect()
+    }
+
+    /// Apply one action; failures become the panel's error line.
+    pub(super) fn apply(&mut self, action: Action) {
+        let result = self.try_apply(action);
+        match result {
+            Ok(Some(status)) => {
+                self.status = status;
+                self.error = None;
+            }
+            Ok(None) => self.error = None,
+            Err(e) => self.error = Some(one_line(&e)),
+        }
+    }
+
+    pub(super) fn try_apply(&mut self, action: Action) -> Result<Option<String>> {
+        let ctx = &self.display.ctx;
+        match action {
+            Action::Set(kv) => {
+                self.session.set(ctx, &kv).with_context(|| kv.clone())?;
+                if kv.trim_start().starts_with("camera.") {
+                    self.orbit = OrbitCamera::from_scene(&self.session.scene().camera);
+                }
+                Ok(Some(format!("set {kv}")))
+            }
+            Action::NextTechnique => self.next_technique().map(Some),
+            Action::Technique(t) => {
+                self.session
+                    .set_technique(ctx, t)
+                    .with_context(|| format!("technique {t}"))?;
+                Ok(Some(format!("technique {t}")))
+            }
+            Action::Open(paths) => {
+                let size = self.display.size();
+                let session = new_session(
+                    ctx,
+                    &paths,
+                    size,
+                    &self.overrides,
+                    self.loader.as_ref(),
+                    Some(self.session.technique()),
+                )?;
+                self.session = session;
+                self.orbit = OrbitCamera::from_scene(&self.session.scene().camera);
+                self.source = describe(&paths);
+                self.frame = None;
+                Ok(Some(format!("opened {}", self.source)))
+            }
+            Action::Rebuild => {
+                let checkout = reload::find_checkout();
+                tress_render::shaders::set_source_dir(checkout.clone());
+                self.rebuild(self.session.scene().clone())
+                    .context("R: the session keeps its pipelines")?;
+                Ok(Some(reload::report(checkout.as_deref())))
+            }
+            Action::AutoLod => {
+                let mut scene = self.session.scene().clone();
+                scene.hybrid.remove("lod");
+                self.rebuild(scene)?;
+                Ok(Some(
+                    "hybrid.lod from the eye distance (session rebuilt)".into(),
+                ))
+            }
+            Action::Screenshot => {
+                let path = next_screenshot_path(Path::new("."));
+                self.save(&path)?;
+                Ok(Some(format!("saved {}", path.display())))
+            }
+            Action::ToggleLights => {
+                self.rotating = !self.rotating;
+                Ok(Some(
+                    if self.rotating {
+                        "lights rotating"
+                    } else {
+                        "lights still"
+                    }
+                    .into(),
+                ))
+            }
+        }
+    }
+
+    /// A new session on `scene` as it is now (technique and settings kept).
+    pub(super) fn rebuild(&mut self, scene: tress_scene::Scene) -> Result<()> {
+        let options = SessionOptions {
+            auto_frame: false,
+            overrides: Vec::new(),
+            satf_database: session_loader(self.loader.as_ref()),
+            readback: StatsReadback::Deferred,
+        };
+        self.session = Session::new(&self.display.ctx, TargetFormats::default(), scene, options)?;
+        self.frame = None;
+        Ok(())
+    }
+
+    /// Write the last rendered frame as a PNG.
+    pub(super) fn save(&self, path: &Path) -> Result<()> {
+        read_texture(&self.display.ctx, &self.targets.color)?.save_png(path)?;
+        Ok(())
+    }
+
+    /// One frame: UI, actions, render, present. With `strict` (a `--frames` run) a frame the
+    /// session cannot render ends the run; otherwise its error shows in the panel.
+    pub(super) fn redraw(&mut self, strict: bool) -> Result<()> {
+        let now = Instant::now();
+        let interval_ms = self
+            .last_frame
+            .map_or(0.0, |t| (now - t).as_secs_f64() * 1e3);
+        if self.rotating {
+            self.light_angle += LIGHT_RADIANS_PER_SECOND * (interval_ms * 1e-3) as f32;
+        }
+
+        // The panel (drawn from the previous frame's statistics).
+        let mut actions = std::mem::take(&mut self.actions);
+        let raw = self.egui_state.take_egui_input(&self.window);
+        let adapter = format!(
+            "{} ({:?})",
+            self.display.ctx.adapter_info.name, self.display.ctx.adapter_info.backend
+        );
+        let view = panel::View {
+            session: &self.session,
+            frame: self.frame.as_ref(),
+            source: &self.source,
+            adapter: &adapter,
+            status: &self.status,
+            error: self.error.as_deref(),
+            rotating: self.rotating,
+        };
+        let visible = self.ui_visible;
+        let panel = &mut self.panel;
+        let mut asked = Vec::new();
+        let mut output = self.egui_ctx.run_ui(raw, |ui| {
+            if visible {
+                asked = panel::show(ui, &view, panel);
+            }
+        });
+        // egui's texture changes, taken at once so that no early return drops them unapplied:
+        // new texels now, frees after this frame's submission.
+        {
+            let ctx = &self.display.ctx;
+            for (id, deltas) in output.textures_delta.set.drain() {
+                for delta in deltas {
+                    self.egui_renderer
+                        .update_texture(&ctx.device, &ctx.queue, id, &delta);
+                }
+            }
+        }
+        let freed = std::mem::take(&mut output.textures_delta.free);
+        self.egui_state
+            .handle_platform_output(&self.window, output.platform_output);
+        actions.extend(asked);
+        if !self.dropped.is_empty() {
+            actions.push(Action::Open(std::mem::take(&mut self.dropped)));
+        }
+        for a in actions {
+            self.apply(a);
+        }
+
+        // The frame.
+        let ctx = &self.display.ctx.clone();
+        let size = self.display.size();
+        if self.targets.size() != size {
+            self.targets = OffscreenTargets::new(ctx, size, COLOR_FORMAT)?;
+        }
+        let camera = self.orbit.camera(size);
+        let lights = self.lights();
+        match self
+            .session
+            .render(ctx, &self.targets.targets(), &camera, Some(&lights))
+        {
+            Ok(f) => {
+                let previous = self
+                    .frame
+                    .take()
+                    .filter(|p| p.technique == f.technique)
+                    .and_then(|p| p.timings);
+                if self.frames == 0 {
+                    self.first_wall_ms = f.wall_ms;
+                } else {
+                    self.wall_ms_sum += f.wall_ms;
+                    self.interval_ms_sum += interval_ms;
+                }
+                self.frames += 1;
+                self.frame = Some(FrameInfo {
+                    technique: f.technique,
+                    size: f.size,
+                    timings: f.timings.clone().or(previous),
+                    wall_ms: f.wall_ms,
+                    interval_ms,
+                    memory: f.memory,
+                    detail: detail(&f.detail),
+                });
+            }
+            Err(e) if strict => return Err(e.into()),
+            Err(e) => self.error = Some(format!("render: {e}")),
+        }
+        self.last_frame = Some(now);
+
+        // Onto the window, the panel over it.
+        let device = &ctx.device;
+        let queue = &ctx.queue;
+        if let Some(surface) = self.display.acquire() {
+            let view = surface.texture.create_view(&Default::default());
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("viewer/present/encoder"),
+            });
+            self.presenter
+                .draw(device, &mut encoder, &self.targets.color_view, &view);
+            let screen = egui_wgpu::ScreenDescriptor {
+                size_in_pixels: size,
+                pixels_per_point: output.pixels_per_point,
+            };
+            let jobs = self
+                .egui_ctx
+                .tessellate(output.shapes, output.pixels_per_point);
+            let mut buffers =
+                self.egui_renderer
+                    .update_buffers(device, queue, &mut encoder, &jobs, &screen);
+            {
+                let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("viewer/egui/pass"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Load,
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                self.egui_renderer
+                    .render(&mut pass.forget_lifetime(), &jobs, &screen);
+            }
+            buffers.push(encoder.finish());
+            queue.submit(buffers);
+            self.window.pre_present_notify();
+            queue.present(surface);
+        }
+        for id in &freed {
+            self.egui_renderer.free_texture(id);
+        }
+        Ok(())
+    }
+
+    pub(super) fn report(&self) -> ViewerReport {
+        let later = f64::from(self.frames.saturating_sub(1).max(1));
+        ViewerReport {
+            frames: self.frames,
+            technique: self.session.technique(),
+            size: self.display.size(),
+            adapter: self.display.ctx.adapter_info.name.clone(),
+            first_frame_ms: self.first_wall_ms,
+            mean_render_ms: self.wall_ms_sum / later,
+            mean_interval_ms: self.interval_ms_sum / later,
+            timings: self.frame.as_ref().and_then(|f| f.timings.clone()),
+            seconds: self.started.elapsed().as_secs_f64(),
+        }
+    }
+}
+
+/// A session on `inputs` for a target of `size` pixels (the framing fits its aspect), with the
+/// `--set` overrides. `keep` is the technique to stay with when the inputs are hair files, which
+/// name none.
+pub(super) fn new_session(
+    ctx: &tress_render::GpuContext,
+    inputs: &[PathBuf],
+    size: [u32; 2],
+    overrides: &[String],
+    loader: Option<&SharedLoader>,
+    keep: Option<&'static str>,
+) -> Result<Session> {
+    let (scene, auto_frame) = tress_render::session::scene_from_inputs(inputs)?;
+    let hair_files = auto_frame && scene.technique == "strands";
+    let mut all = vec![
+        format!("output.width={}", size[0]),
+        format!("output.height={}", size[1]),
+    ];
+    if let (true, Some(t)) = (hair_files, keep) {
+        all.push(format!("technique=\"{t}\""));
+    }
+    all.extend(overrides.iter().cloned());
+    let options = SessionOptions {
+        auto_frame,
+        overrides: all,
+        satf_database: session_loader(loader),
+        readback: StatsReadback::Deferred,
+    };
+    // Loading errors name the file; only the demo needs naming.
+    let session = Session::new(ctx, TargetFormats::default(), scene, options);
+    if inputs.is_empty() {
+        Ok(session.context("the built-in demo")?)
+    } else {
+        Ok(session?)
+    }
+}
+
+/// The technique's statistics in one line.
+pub(super) fn detail(d: &FrameDetail) -> String {
+    match d {
+        FrameDetail::Strands(s) => {
+            let mut line = format!("{} segments, PPLL capacity {}", s.segments, s.ppll_capacity);
+            if let Some(g) = &s.gpu {
+                line += &format!(" ({} used, {} dropped)", g.ppll.used, g.ppll.dropped);
+            }
+            if let Some(v) = &s.volume {
+                line += &format!(", volume {}³", v.resolution);
+            }
+            line + &format!(", lod {:.2}", s.lod)
+        }
+        FrameDetail::Patches(p) => format!("{} triangles, {}", p.triangles, p.scheme.name()),
+        FrameDetail::Satf(s) => format!(
+            "{} clusters, {} layers, {} HSVs",
+            s.clusters, s.layers, s.hsvs
+        ),
+    }
+}
