@@ -6,11 +6,16 @@
 //! voxelize     hair AABB, grid, counters, resolve into the 3D volume (Voxelizer, §3.3)
 //! shadow       per light: head + hair depth from the light (ADSM only) (ShadowMap, §3.4)
 //! head         clear (optional), opaque head with depth writes      (HeadPass)
-//! ppll_build   strands -> shaded, coverage-weighted fragments lists (PpllBuild, §3.1-3.2)
-//! ppll_resolve k nearest sorted + order-independent tail, over head (PpllResolve, §3.2)
+//! oit          strands -> shaded, coverage-weighted fragments, either
+//!   ppll_build       into per-pixel lists                        (PpllBuild, §3.1-3.2)
+//!   ppll_resolve     k nearest sorted + order-independent tail   (PpllResolve, §3.2)
+//! or (ShortCut, strands::oit)
+//!   shortcut_depth   k nearest depths per pixel                  (ShortcutDepth)
+//!   shortcut_shade   those k shaded, the rest's transmittance    (ShortcutShade)
+//!   shortcut_resolve k sorted + the tail, over head              (ShortcutResolve)
 //! raymarch     hair box -> isosurface, shaded                       (Raymarch, §3.3-3.4)
 //! lod_blend    0 < f < 1: strands and volume layers mixed over head (LodBlend, §3, §4)
-//! readback     PPLL + voxel counters + timestamps -> FrameStats; grow the pool if needed
+//! readback     OIT + voxel counters + timestamps -> FrameStats; grow the pool or switch OIT
 //! ```
 //!
 //! At `f = 0` the strand passes draw straight into the target, at `f = 1` the raymarch does; only
@@ -27,11 +32,8 @@ use crate::head::{HeadGeometry, HeadPass};
 use crate::inputs::union_sphere;
 use crate::lod::{FramePlan, HybridSettings, LodBlend, LodLayers, Technique};
 use crate::stats::{FrameStats, ReadbackRing, SlotInfo, StatsReadback, VolumeFrame};
-use crate::strands::ppll_build::PpllBuildInputs;
-use crate::strands::{
-    PpllBuild, PpllPool, PpllResolve, ShadowMap, StrandGeometry, StrandSettings, ThicknessFade,
-    ppll,
-};
+use crate::strands::oit::{OitInputs, StrandOit};
+use crate::strands::{PpllPool, ShadowMap, StrandGeometry, StrandSettings, ThicknessFade};
 use crate::volume::raymarch::RaymarchInputs;
 use crate::volume::{Raymarch, ShadowMode, VolumeSettings, Voxelizer};
 use crate::{Camera, DirectionalLight, GpuContext, MAX_LIGHTS, Material, RenderError};
@@ -46,6 +48,9 @@ pub const PASS_NAMES: &[&str] = &[
     "head",
     "strands/ppll_build",
     "strands/ppll_resolve",
+    "strands/shortcut_depth",
+    "strands/shortcut_shade",
+    "strands/shortcut_resolve",
     "volume/raymarch",
     "lod/blend",
 ];
@@ -94,10 +99,7 @@ pub struct Renderer {
     lighting_group: wgpu::BindGroup,
     shadow: ShadowMap,
     head_pass: HeadPass,
-    build: PpllBuild,
-    resolve: PpllResolve,
-    pool: Option<PpllPool>,
-    grown_capacity: Option<u32>,
+    oit: StrandOit,
     timer: GpuTimer,
     ring: ReadbackRing,
     stats_readback: StatsReadback,
@@ -108,10 +110,11 @@ impl Renderer {
     /// Render one frame into `targets` and submit it on `ctx.queue`.
     ///
     /// With [`StatsReadback::Wait`] and a clearing frame (`inputs.clear` set), a frame that
-    /// dropped PPLL fragments is rendered again with the grown pool (at most
-    /// [`MAX_ATTEMPTS`] times in all), so offline renders are complete; `FrameStats::attempts`
-    /// says how many it took. A frame drawn over the caller's content (`clear: None`) is never
-    /// repeated: the next frame uses the grown pool.
+    /// dropped PPLL fragments is rendered again with the grown pool, or with ShortCut when the
+    /// pool's cap cannot hold it and `strands.oit` is `auto` (at most [`MAX_ATTEMPTS`] times in
+    /// all), so offline renders are complete; `FrameStats::attempts` says how many it took. A
+    /// frame drawn over the caller's content (`clear: None`) is never repeated: the next frame
+    /// uses the grown pool or ShortCut.
     pub fn render(
         &mut self,
         ctx: &GpuContext,
@@ -138,35 +141,41 @@ impl Renderer {
             return Err(RenderError::Invalid("ambient light is not finite".into()));
         }
 
-        // ---- results of earlier frames: statistics, pool growth
+        // ---- results of earlier frames: statistics, pool growth, OIT choice
         let mut report = self.ring.harvest(ctx, &self.timer)?;
-        self.grow_pool_from(ctx, report.as_ref());
+        if let Some(r) = &report {
+            self.oit.learn(ctx, &self.settings, r);
+        }
 
         let mut attempts = 0;
         loop {
             attempts += 1;
-            let (frame, slot, plan) = self.submit(ctx, targets, inputs, size)?;
-            let capacity = pool_capacity(self.pool.as_ref());
+            let (frame, slot, plan, oit) = self.submit(ctx, targets, inputs, size)?;
+            let (ppll_capacity, ppll_bytes) = match oit {
+                Some((crate::strands::OitKind::Ppll, _)) => {
+                    (self.oit.ppll_capacity(), self.oit.ppll_bytes())
+                }
+                _ => (0, 0),
+            };
+            let mut retry = false;
             if let (StatsReadback::Wait, Some(i)) = (self.stats_readback, slot) {
                 report = self.ring.wait(ctx, &self.timer, i)?.or(report);
-                self.grow_pool_from(ctx, report.as_ref());
+                if let Some(r) = report.as_ref().filter(|r| r.frame == frame) {
+                    let lost = r.oit.is_some_and(|o| o.lost > 0);
+                    retry = self.oit.learn(ctx, &self.settings, r) && lost;
+                }
             }
-            let grew = self.grown_capacity.is_some_and(|c| c > capacity);
-            let dropped = report
-                .as_ref()
-                .is_some_and(|r| r.frame == frame && r.ppll.dropped > 0);
-            if dropped && grew && inputs.clear.is_some() && attempts < MAX_ATTEMPTS {
-                tracing::debug!(frame, "PPLL overflowed: rendering the frame again");
+            if retry && inputs.clear.is_some() && attempts < MAX_ATTEMPTS {
+                tracing::debug!(frame, "fragments were lost: rendering the frame again");
                 continue;
             }
             return Ok(FrameStats {
                 frame,
                 size,
                 segments: inputs.hair.map_or(0, |h| h.segment_count()),
-                ppll_capacity: capacity,
-                ppll_bytes: self.pool.as_ref().map_or(0, |p| {
-                    u64::from(p.capacity) * ppll::NODE_BYTES + PpllPool::head_bytes(p.size)
-                }),
+                ppll_capacity,
+                ppll_bytes,
+                oit,
                 attempts,
                 gpu: report,
                 lod: plan.lod,
@@ -182,14 +191,15 @@ impl Renderer {
         }
     }
 
-    /// Encode and submit one frame; returns its index, its readback slot and its plan.
+    /// Encode and submit one frame; returns its index, its readback slot, its plan and the OIT
+    /// that drew its strands (with the bytes of its buffers).
     fn submit(
         &mut self,
         ctx: &GpuContext,
         targets: &Targets<'_>,
         inputs: &FrameInputs<'_>,
         size: [u32; 2],
-    ) -> Result<(u64, Option<usize>, FramePlan), RenderError> {
+    ) -> Result<(u64, Option<usize>, FramePlan, Option<OitFrame>), RenderError> {
         // ---- plan: what draws the hair this frame (crate::lod)
         let hair = inputs.hair.filter(|h| h.segment_count() > 0);
         let plan = FramePlan::new(
@@ -214,23 +224,14 @@ impl Renderer {
             self.layers = Some(LodLayers::new(ctx, size, self.formats.color)?);
         }
 
-        // ---- PPLL buffers for this target size and capacity (only when strands draw)
-        if plan.strands {
-            let cap_nodes = PpllPool::cap_nodes(ctx, self.settings.ppll_max_bytes);
-            let pixels = u64::from(size[0]) * u64::from(size[1]);
-            let capacity = self.grown_capacity.unwrap_or_else(|| {
-                ppll::initial_capacity(pixels, self.settings.ppll_nodes_per_pixel, cap_nodes)
-            });
-            if self
-                .pool
-                .as_ref()
-                .is_none_or(|p| p.size != size || p.capacity != capacity)
-            {
-                self.pool = None;
-                self.pool = Some(PpllPool::new(ctx, size, capacity)?);
-            }
+        // ---- OIT buffers for this target size (only when strands draw; strands::oit)
+        let oit_kind = hair
+            .filter(|_| plan.strands)
+            .map(|_| self.oit.kind(&self.settings));
+        if let Some(kind) = oit_kind {
+            self.oit.prepare(ctx, &self.settings, size, kind)?;
         }
-        let pool = self.pool.as_ref().filter(|_| plan.strands);
+        let oit = oit_kind.map(|kind| (kind, self.oit.bytes(kind)));
 
         // ---- uniforms
         let bounds = match (inputs.hair.map(|h| h.bounds), inputs.head.map(|h| h.bounds)) {
@@ -250,8 +251,13 @@ impl Renderer {
             light_cameras.push(cam.uniform());
         }
         let mut params = self.settings.params();
-        params.node_capacity = pool.map_or(1, |p| p.capacity);
+        if let Some(kind) = oit_kind {
+            self.oit.fill_params(kind, &mut params);
+        } else {
+            (params.node_capacity, params.nodes_per_chunk) = (1, 1);
+        }
         params.target_width = size[0];
+        params.target_height = size[1];
         params.light_count = lights.count;
         params.shadows = u32::from(plan.shadows);
         params.thickness_fade = match (self.settings.thickness_fade, hair) {
@@ -293,8 +299,8 @@ impl Renderer {
             && !light_cameras.is_empty()
             && bounds.is_some();
         let timer = &mut self.timer;
-        let (shadow, head_pass, build, resolve) =
-            (&self.shadow, &self.head_pass, &self.build, &self.resolve);
+        let (shadow, head_pass, strand_oit) = (&self.shadow, &self.head_pass, &self.oit);
+        let shadow_width_px = self.settings.shadow_width_px;
         let (raymarch, lod_blend, layers) = (&self.raymarch, &self.lod_blend, &self.layers);
         let voxelizer = self.voxelizer.as_ref().filter(|_| plan.voxelize);
         let (view, lighting) = (&self.view_group, &self.lighting_group);
@@ -316,7 +322,15 @@ impl Renderer {
             }
             // ---- shadow maps (§3.4, ADSM)
             if adsm {
-                shadow.encode(ctx, &mut encoder, timer, &light_cameras, hair, inputs.head);
+                shadow.encode(
+                    ctx,
+                    &mut encoder,
+                    timer,
+                    &light_cameras,
+                    hair,
+                    inputs.head,
+                    shadow_width_px,
+                );
             }
             // ---- opaque head, depth written
             {
@@ -337,29 +351,16 @@ impl Renderer {
             if let Some(l) = layers {
                 l.clear(&mut encoder);
             }
-            // ---- strands: PPLL build and resolve (§3.1-3.2)
-            if let (Some(geometry), Some(pool)) = (hair, pool) {
-                let inputs = PpllBuildInputs {
+            // ---- strands: PPLL build and resolve (§3.1-3.2), or ShortCut (strands::oit)
+            if let (Some(geometry), Some(kind)) = (hair, oit_kind) {
+                let inputs = OitInputs {
                     view,
                     lighting,
                     geometry,
-                    pool,
                     depth: targets.depth,
+                    color: layers.map_or(targets.color, |l| &l.strands),
                 };
-                build.encode(
-                    ctx,
-                    &mut encoder,
-                    &inputs,
-                    timer.render_writes("strands/ppll_build", true, true),
-                );
-                resolve.encode(
-                    ctx,
-                    &mut encoder,
-                    view,
-                    pool,
-                    layers.map_or(targets.color, |l| &l.strands),
-                    timer.render_writes("strands/ppll_resolve", true, true),
-                );
+                strand_oit.encode(ctx, &mut encoder, kind, &inputs, timer);
             }
             // ---- volume: raymarch to the isosurface (§3.3-3.4)
             if let (Some(v), true) = (voxelizer, plan.volume) {
@@ -390,13 +391,14 @@ impl Renderer {
             }
             // ---- statistics readback
             if let Some(i) = slot {
+                let ppll = oit_kind == Some(crate::strands::OitKind::Ppll);
                 let info = SlotInfo {
                     frame,
-                    capacity: pool.map_or(0, |p| p.capacity),
-                    head_bytes: PpllPool::head_bytes(size),
-                    counters: pool.is_some() && hair.is_some(),
+                    capacity: if ppll { strand_oit.ppll_capacity() } else { 0 },
+                    head_bytes: if ppll { PpllPool::head_bytes(size) } else { 0 },
+                    oit,
                 };
-                let counters = pool.filter(|_| hair.is_some()).map(|p| &p.counters);
+                let counters = oit_kind.and_then(|k| strand_oit.counters(k));
                 ring.record(i, &mut encoder, counters, timer, info);
                 if let Some(v) = voxelizer {
                     ring.record_volume(i, &mut encoder, v.stats_buffer());
@@ -408,29 +410,9 @@ impl Renderer {
             }
         })?;
 
-        Ok((frame, slot, plan))
-    }
-
-    fn grow_pool_from(&mut self, ctx: &GpuContext, report: Option<&crate::stats::GpuReport>) {
-        let Some(r) = report.filter(|r| r.ppll.dropped > 0) else {
-            return;
-        };
-        let Some(pool) = &self.pool else {
-            return;
-        };
-        let cap = PpllPool::cap_nodes(ctx, self.settings.ppll_max_bytes);
-        let grown = ppll::grown_capacity(pool.capacity, r.ppll.requested, cap);
-        if grown > pool.capacity {
-            tracing::debug!(
-                from = pool.capacity,
-                to = grown,
-                "growing the PPLL node pool"
-            );
-            self.grown_capacity = Some(grown);
-        }
+        Ok((frame, slot, plan, oit))
     }
 }
 
-fn pool_capacity(pool: Option<&PpllPool>) -> u32 {
-    pool.map_or(0, |p| p.capacity)
-}
+/// The OIT that drew a frame's strands and the bytes of its buffers.
+type OitFrame = (crate::strands::OitKind, u64);

@@ -155,9 +155,11 @@ struct StrandTable {
     shading: Option<String>,
     coverage: Option<bool>,
     thickness_fade: Option<String>,
+    oit: Option<String>,
     k: Option<u32>,
     ppll_nodes_per_pixel: Option<f32>,
     ppll_max_mib: Option<f64>,
+    shortcut_k: Option<u32>,
     shadows: Option<bool>,
     shadow_map_size: Option<u32>,
     shadow_r: Option<f32>,
@@ -182,6 +184,7 @@ pub fn strand_settings(scene: &Scene) -> Result<StrandSettings, RenderError> {
         coverage,
         k,
         ppll_nodes_per_pixel,
+        shortcut_k,
         shadows,
         shadow_map_size,
         shadow_r,
@@ -199,6 +202,9 @@ pub fn strand_settings(scene: &Scene) -> Result<StrandSettings, RenderError> {
     }
     if let Some(name) = &t.shading {
         s.shading = name.parse::<Shading>()?;
+    }
+    if let Some(name) = &t.oit {
+        s.oit = name.parse::<crate::strands::Oit>()?;
     }
     if let Some(mib) = t.ppll_max_mib {
         if !(mib.is_finite() && mib > 0.0) {

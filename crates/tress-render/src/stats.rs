@@ -7,6 +7,7 @@ use std::sync::atomic::{AtomicU8, Ordering};
 use crate::gpu::types::{PpllCounters, VoxelStats};
 use crate::gpu::{GpuTimer, Timings};
 use crate::strands::PpllStats;
+use crate::strands::oit::{OitKind, OitStats};
 use crate::volume::VolumeStats;
 use crate::{GpuContext, RenderError};
 
@@ -27,8 +28,11 @@ pub enum StatsReadback {
 pub struct GpuReport {
     /// The frame these results belong to.
     pub frame: u64,
-    /// PPLL occupancy (zero counts when no strands were drawn).
+    /// PPLL occupancy (zero counts when the PPLL did not draw).
     pub ppll: PpllStats,
+    /// The OIT that drew the strands, what it was given and what it lost (`None` when no
+    /// strands were drawn).
+    pub oit: Option<OitStats>,
     /// Voxel counter occupancy, when the frame voxelized the hair.
     pub volume: Option<VolumeStats>,
     /// Per-pass GPU times.
@@ -44,10 +48,13 @@ pub struct FrameStats {
     pub size: [u32; 2],
     /// Strand segments drawn.
     pub segments: u32,
-    /// PPLL node capacity this frame.
+    /// PPLL node capacity this frame (0 when the PPLL did not draw).
     pub ppll_capacity: u32,
-    /// Bytes of PPLL nodes + heads this frame.
+    /// Bytes of PPLL nodes + heads this frame (0 when the PPLL did not draw).
     pub ppll_bytes: u64,
+    /// The OIT that drew the strands this frame and the bytes of its buffers (`None` when no
+    /// strands were drawn).
+    pub oit: Option<(OitKind, u64)>,
     /// Times the frame was rendered (more than 1 when a full PPLL pool grew and the frame was
     /// repeated; see `Renderer::render`).
     pub attempts: u32,
@@ -83,7 +90,7 @@ struct Slot {
     frame: u64,
     capacity: u32,
     head_bytes: u64,
-    counters: bool,
+    oit: Option<(OitKind, u64)>,
     volume: bool,
     written: Vec<bool>,
 }
@@ -100,8 +107,8 @@ pub(crate) struct SlotInfo {
     pub(crate) frame: u64,
     pub(crate) capacity: u32,
     pub(crate) head_bytes: u64,
-    /// Whether PPLL counters were copied (a build pass ran).
-    pub(crate) counters: bool,
+    /// The OIT whose counters were copied and its bytes (`None`: no strand passes ran).
+    pub(crate) oit: Option<(OitKind, u64)>,
 }
 
 /// Offset of the voxel statistics in a slot (after the 16 bytes of PPLL counters).
@@ -122,7 +129,7 @@ impl ReadbackRing {
                 frame: 0,
                 capacity: 0,
                 head_bytes: 0,
-                counters: false,
+                oit: None,
                 volume: false,
                 written: Vec::new(),
             })
@@ -155,7 +162,7 @@ impl ReadbackRing {
         slot.frame = info.frame;
         slot.capacity = info.capacity;
         slot.head_bytes = info.head_bytes;
-        slot.counters = info.counters;
+        slot.oit = info.oit;
         slot.written = timer.written();
     }
 
@@ -201,10 +208,20 @@ impl ReadbackRing {
                         .to_vec();
                     slot.buffer.unmap();
                     slot.state.store(IDLE, Ordering::Release);
-                    let counters = if slot.counters {
+                    let counters = if slot.oit.is_some() {
                         bytemuck::pod_read_unaligned::<PpllCounters>(&bytes[..16])
                     } else {
                         PpllCounters::default()
+                    };
+                    let oit = slot.oit.map(|(kind, bytes)| OitStats {
+                        kind,
+                        fragments: counters.requested,
+                        lost: counters.dropped,
+                        bytes,
+                    });
+                    let ppll_counters = match slot.oit {
+                        Some((OitKind::Ppll, _)) => counters,
+                        _ => PpllCounters::default(),
                     };
                     let volume = slot.volume.then(|| {
                         let o = VOLUME_OFFSET as usize;
@@ -216,7 +233,12 @@ impl ReadbackRing {
                     });
                     let report = GpuReport {
                         frame: slot.frame,
-                        ppll: PpllStats::from_counters(counters, slot.capacity, slot.head_bytes),
+                        ppll: PpllStats::from_counters(
+                            ppll_counters,
+                            slot.capacity,
+                            slot.head_bytes,
+                        ),
+                        oit,
                         volume,
                         timings: timer.parse(&bytes[TIMESTAMP_OFFSET as usize..], &slot.written),
                     };

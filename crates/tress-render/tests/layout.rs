@@ -90,7 +90,10 @@ fn gpu_types_match_wgsl() {
             shadows,
             hair_center,
             light_count,
-            thickness_ref
+            thickness_ref,
+            nodes_per_chunk,
+            shortcut_k,
+            target_height
         ]
     );
     // HairLighting's trailing padding is implicit in WGSL (struct alignment), explicit in Rust.
@@ -132,6 +135,15 @@ fn gpu_types_match_wgsl() {
     check!(
         &m,
         "PpllCounters",
+        PpllCounters,
+        [requested, dropped, _pad0, _pad1]
+    );
+    // ShortCut's counters are read back with the PPLL's layout.
+    let text = shaders::compose("strands/shortcut_depth.wgsl").expect("composes");
+    let m = naga::front::wgsl::parse_str(&text).expect("parses");
+    check!(
+        &m,
+        "ShortcutCounters",
         PpllCounters,
         [requested, dropped, _pad0, _pad1]
     );

@@ -95,6 +95,7 @@ fn app_clear(ctx: &tress_render::GpuContext, targets: &OffscreenTargets) {
 
 fn flat(width_px: f32, k: u32) -> StrandSettings {
     StrandSettings {
+        oit: tress_render::strands::Oit::Ppll,
         width_px,
         k,
         alpha: 1.0,
@@ -200,6 +201,9 @@ fn overflow_is_counted_and_pool_stays_within_its_cap() {
         assert_eq!(gpu.ppll.dropped, requested - capacity);
         assert_eq!(gpu.ppll.requested, requested);
         assert_eq!(s.ppll_capacity, capacity);
+        // The OIT report says the same: the PPLL lost exactly what did not fit.
+        let oit = gpu.oit.expect("strands were drawn");
+        assert_eq!((oit.fragments, oit.lost), (requested, requested - capacity));
     }
 }
 

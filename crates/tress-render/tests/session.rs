@@ -61,16 +61,13 @@ fn every_technique_draws_the_scene_and_reports_its_memory() {
         assert!(m.geometry > 0, "{t}: {m}");
         match t {
             "strands" => {
-                assert!(
-                    m.ppll > 0 && m.shadow_maps > 0 && m.volumes == 0,
-                    "{t}: {m}"
-                );
+                assert!(m.oit > 0 && m.shadow_maps > 0 && m.volumes == 0, "{t}: {m}");
                 assert!(matches!(f.detail, FrameDetail::Strands(_)));
             }
             // The raymarcher uses no PPLL and no shadow maps, though the renderer kept them.
-            "volume" => assert!(m.volumes > 0 && m.ppll == 0 && m.shadow_maps == 0, "{m}"),
+            "volume" => assert!(m.volumes > 0 && m.oit == 0 && m.shadow_maps == 0, "{m}"),
             "patches" => {
-                assert!(m.textures > 0 && m.ppll == 0, "{m}");
+                assert!(m.textures > 0 && m.oit == 0, "{m}");
                 assert!(matches!(f.detail, FrameDetail::Patches(_)));
             }
             "satf" => {

@@ -27,9 +27,15 @@ fn every_source_file_composes_and_validates() {
 fn entry_modules_have_their_entry_points() {
     let expect: &[(&str, &[&str])] = &[
         ("head/head_pass.wgsl", &["vs_main", "fs_main"]),
-        ("strands/shadow.wgsl", &["vs_strand", "vs_head"]),
+        (
+            "strands/shadow.wgsl",
+            &["vs_strand", "vs_strand_line", "vs_head"],
+        ),
         ("strands/ppll_build.wgsl", &["vs_main", "fs_main"]),
         ("strands/ppll_resolve.wgsl", &["vs_main", "fs_main"]),
+        ("strands/shortcut_depth.wgsl", &["vs_main", "fs_main"]),
+        ("strands/shortcut_shade.wgsl", &["vs_main", "fs_main"]),
+        ("strands/shortcut_resolve.wgsl", &["vs_main", "fs_main"]),
         ("satf/index_calc.wgsl", &["cs_sectors", "cs_hsvs"]),
         ("satf/map_build.wgsl", &["cs_main"]),
         (

@@ -67,6 +67,7 @@
 //!
 //! CPU-only helpers, compositions of the twins above with no WGSL counterpart (their loops live in
 //! the technique's resolve shader): [`StrandFragment`], [`composite_sorted`], [`resolve_k_buffer`],
+//! [`resolve_shortcut`],
 //! and the [`DepthMap`] view that stands in for the shadow-map texture.
 //!
 //! Where the WGSL result is undefined (WGSL `pow(x, y)` for `x = 0, y <= 0`, `normalize` of a zero
@@ -77,6 +78,7 @@ pub mod coverage;
 pub mod kajiya_kay;
 pub mod scheuermann;
 pub mod shadow;
+pub mod shortcut;
 #[cfg(test)]
 mod test_util;
 pub mod volume;
@@ -95,6 +97,7 @@ pub use shadow::{
     DepthMap, MAX_PCF_RADIUS, ShadingError, adsm_depth, adsm_pcf, adsm_visibility,
     strand_visibility,
 };
+pub use shortcut::{resolve_shortcut, shortcut_accumulator};
 pub use volume::{
     DensityVolume, VolumeSizeError, ao_offset, density_gradient, density_normal, dither_threshold,
     fake_transparency_alpha, lod_factor, ray_box, volume_ao, volume_shadow_strands,

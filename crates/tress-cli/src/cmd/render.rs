@@ -67,6 +67,9 @@ pub(crate) struct Report {
     pub(crate) passes: Vec<Pass>,
     pub(crate) frame_gpu_ms: Option<f64>,
     pub(crate) ppll: Ppll,
+    /// The strand rasterizer's OIT, when strands were drawn.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) oit: Option<OitReport>,
     pub(crate) output: String,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) patches: Option<PatchReport>,
@@ -104,6 +107,7 @@ impl Report {
             passes,
             frame_gpu_ms,
             ppll: Ppll::default(),
+            oit: None,
             output: output.display().to_string(),
             patches: None,
             volume: None,
@@ -142,6 +146,45 @@ pub(crate) struct Ppll {
     pub(crate) used: u32,
     pub(crate) dropped: u32,
     pub(crate) bytes: u64,
+}
+
+/// Which OIT drew the strands, what it was given and lost, and its memory.
+#[derive(Serialize)]
+pub(crate) struct OitReport {
+    /// `"ppll"` or `"shortcut"`.
+    pub(crate) kind: &'static str,
+    /// Fragments that did not reach the image (a full PPLL pool).
+    pub(crate) lost: u32,
+    /// Bytes of the OIT's buffers.
+    pub(crate) bytes: u64,
+    /// Strand fragments the OIT was given.
+    pub(crate) fragments: u32,
+}
+
+impl OitReport {
+    /// From a frame's GPU report, if strands were drawn.
+    pub(crate) fn from_stats(stats: &FrameStats) -> Option<OitReport> {
+        let o = stats.gpu.as_ref()?.oit?;
+        Some(OitReport {
+            kind: o.kind.name(),
+            lost: o.lost,
+            bytes: o.bytes,
+            fragments: o.fragments,
+        })
+    }
+}
+
+impl std::fmt::Display for OitReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "OIT: {}, {} fragments, {} lost ({:.1} MiB)",
+            self.kind,
+            self.fragments,
+            self.lost,
+            self.bytes as f64 / (1u64 << 20) as f64
+        )
+    }
 }
 
 /// The passes of `timings` (none without timestamps).
@@ -318,6 +361,9 @@ pub(crate) fn run(args: Args) -> Result<()> {
                 report.ppll.bytes as f64 / (1u64 << 20) as f64
             );
         }
+        if let Some(o) = &report.oit {
+            println!("{o}");
+        }
         if let Some(v) = &report.volume {
             println!("{v}");
         }
@@ -404,6 +450,7 @@ pub(crate) fn report(
             bytes: stats.ppll_bytes,
         },
         volume: super::animate::volume_report(stats),
+        oit: OitReport::from_stats(stats),
         ..Report::new(
             ctx,
             scene,

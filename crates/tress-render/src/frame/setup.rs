@@ -10,7 +10,8 @@ use crate::gpu::{GpuTimer, TargetFormats};
 use crate::head::HeadPass;
 use crate::lod::{HybridSettings, LodBlend, Technique};
 use crate::stats::{ReadbackRing, StatsReadback};
-use crate::strands::{PpllBuild, PpllResolve, ShadowMap, StrandGeometry, StrandSettings};
+use crate::strands::oit::StrandOit;
+use crate::strands::{ShadowMap, StrandGeometry, StrandSettings};
 use crate::volume::{Raymarch, VolumeBinding, VolumeSettings, Voxelizer, volume_resources};
 use crate::{GpuContext, MAX_LIGHTS, RenderError};
 
@@ -86,8 +87,7 @@ impl Renderer {
             voxelizer: None,
             layers: None,
             head_pass: HeadPass::new(ctx, &layouts, formats.color)?,
-            build: PpllBuild::new(ctx, &layouts)?,
-            resolve: PpllResolve::new(ctx, &layouts, formats.color)?,
+            oit: StrandOit::new(ctx, &layouts, formats.color)?,
             settings,
             layouts,
             camera,
@@ -97,8 +97,6 @@ impl Renderer {
             view_group,
             lighting_group,
             shadow,
-            pool: None,
-            grown_capacity: None,
             timer,
             ring,
             stats_readback: StatsReadback::Wait,
@@ -172,8 +170,8 @@ impl Renderer {
         &self.settings
     }
 
-    /// Change settings (validated). A new shadow map size reallocates the maps; new pool settings
-    /// resize the PPLL at the next frame.
+    /// Change settings (validated). A new shadow map size reallocates the maps; new OIT settings
+    /// (pool, `oit`, `shortcut_k`) reallocate the OIT's buffers at the next frame.
     pub fn set_settings(
         &mut self,
         ctx: &GpuContext,
@@ -187,9 +185,10 @@ impl Renderer {
         }
         if settings.ppll_nodes_per_pixel != self.settings.ppll_nodes_per_pixel
             || settings.ppll_max_bytes != self.settings.ppll_max_bytes
+            || settings.oit != self.settings.oit
+            || settings.shortcut_k != self.settings.shortcut_k
         {
-            self.pool = None;
-            self.grown_capacity = None;
+            self.oit.reset();
         }
         self.settings = settings;
         Ok(())

@@ -11,9 +11,9 @@ pub const ADAPTER_ENV: &str = "TRESS_ADAPTER";
 /// 1280x720 frame is 3.5 MiB; the node pool shrinks to what the device allows).
 pub const MIN_STORAGE_BINDING_BYTES: u64 = 16 << 20;
 
-/// Storage buffers the strand passes bind in one shader stage (vertex: vertices, segments,
-/// params; fragment: PPLL heads, nodes, counters).
-pub const MIN_STORAGE_BUFFERS_PER_STAGE: u32 = 4;
+/// Storage buffers the strand passes bind in one shader stage (vertex: vertices, segments;
+/// fragment: PPLL heads, counters and the node pool's `strands::NODE_CHUNKS` = 4 bindings).
+pub const MIN_STORAGE_BUFFERS_PER_STAGE: u32 = 6;
 
 /// How to choose the adapter. [`ContextOptions::from_env`] reads `WGPU_BACKEND` (wgpu's own
 /// variable: `vulkan`, `metal`, `dx12`, `gl`) and [`ADAPTER_ENV`].

@@ -114,8 +114,12 @@ pub struct StrandParams {
     pub light_count: u32,
     /// Thickness that fades nothing in the tip mode (the asset's thickest vertex).
     pub thickness_ref: f32,
-    /// Padding to the WGSL struct's 16-byte alignment.
-    pub _pad: [f32; 3],
+    /// PPLL nodes per storage buffer of the pool (chunk `i / nodes_per_chunk` holds node `i`).
+    pub nodes_per_chunk: u32,
+    /// ShortCut's k: nearest fragments per pixel blended in order.
+    pub shortcut_k: u32,
+    /// Height of the color target.
+    pub target_height: u32,
 }
 
 /// `struct HairLighting` in `shaders/common/shading.wgsl` (twin of `tress_shading::HairLighting`).

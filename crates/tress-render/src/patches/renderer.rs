@@ -397,7 +397,7 @@ impl PatchRenderer {
                     frame,
                     capacity: 0,
                     head_bytes: 0,
-                    counters: false,
+                    oit: None,
                 };
                 ring.record(i, &mut encoder, None, timer, info);
             }

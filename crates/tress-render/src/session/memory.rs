@@ -6,8 +6,9 @@
 pub struct Memory {
     /// Vertex, index and strand buffers, with the head mesh.
     pub geometry: u64,
-    /// Per-pixel linked list nodes and heads.
-    pub ppll: u64,
+    /// The strand rasterizer's OIT: PPLL nodes and heads, or ShortCut's layers and
+    /// transmittance (whichever drew the frame).
+    pub oit: u64,
     /// Voxel counters, the density/tangent volume and occupancy blocks.
     pub volumes: u64,
     /// Shadow maps.
@@ -23,7 +24,7 @@ impl Memory {
     pub fn rows(&self) -> [(&'static str, u64); 6] {
         [
             ("geometry", self.geometry),
-            ("ppll", self.ppll),
+            ("oit", self.oit),
             ("volumes", self.volumes),
             ("shadow_maps", self.shadow_maps),
             ("textures", self.textures),
@@ -61,14 +62,14 @@ mod tests {
     fn total_is_the_sum_of_the_rows_and_display_skips_zero_rows() {
         let m = Memory {
             geometry: 3 << 20,
-            ppll: 1 << 20,
+            oit: 1 << 20,
             database: 2 << 20,
             ..Memory::default()
         };
         assert_eq!(m.total(), 6 << 20);
         assert_eq!(
             m.to_string(),
-            "6.0 MiB (geometry 3.0, ppll 1.0, database 2.0)"
+            "6.0 MiB (geometry 3.0, oit 1.0, database 2.0)"
         );
     }
 }

@@ -537,12 +537,12 @@ impl Session {
                         clear,
                     },
                 )?;
-                // What this frame's technique uses: the raymarcher alone needs no PPLL and no
+                // What this frame's technique uses: the raymarcher alone needs no OIT and no
                 // shadow maps (the renderer keeps those of techniques drawn before).
                 let raster = self.technique != "volume";
                 let memory = Memory {
                     geometry: s.hair.as_ref().map_or(0, StrandGeometry::bytes) + head_bytes,
-                    ppll: if raster { stats.ppll_bytes } else { 0 },
+                    oit: stats.oit.map_or(0, |(_, bytes)| bytes),
                     volumes: stats.volume.map_or(0, |v| v.bytes),
                     shadow_maps: if raster { s.renderer.shadow_bytes() } else { 0 },
                     ..Memory::default()

@@ -31,6 +31,19 @@ pub const SOURCES: &[(&str, &str)] = &[
     ("common/params.wgsl", include_str!("common/params.wgsl")),
     ("common/shading.wgsl", include_str!("common/shading.wgsl")),
     ("common/ppll.wgsl", include_str!("common/ppll.wgsl")),
+    (
+        "common/ppll_pool.wgsl",
+        include_str!("common/ppll_pool.wgsl"),
+    ),
+    ("common/shortcut.wgsl", include_str!("common/shortcut.wgsl")),
+    (
+        "common/strand_fragment.wgsl",
+        include_str!("common/strand_fragment.wgsl"),
+    ),
+    (
+        "common/strand_shading.wgsl",
+        include_str!("common/strand_shading.wgsl"),
+    ),
     ("common/strand.wgsl", include_str!("common/strand.wgsl")),
     ("common/volume.wgsl", include_str!("common/volume.wgsl")),
     (
@@ -52,6 +65,18 @@ pub const SOURCES: &[(&str, &str)] = &[
     (
         "strands/ppll_resolve.wgsl",
         include_str!("../strands/ppll_resolve.wgsl"),
+    ),
+    (
+        "strands/shortcut_depth.wgsl",
+        include_str!("../strands/shortcut_depth.wgsl"),
+    ),
+    (
+        "strands/shortcut_shade.wgsl",
+        include_str!("../strands/shortcut_shade.wgsl"),
+    ),
+    (
+        "strands/shortcut_resolve.wgsl",
+        include_str!("../strands/shortcut_resolve.wgsl"),
     ),
     ("satf/types.wgsl", include_str!("../satf/types.wgsl")),
     ("satf/online.wgsl", include_str!("../satf/online.wgsl")),
@@ -123,6 +148,9 @@ pub const ENTRY_MODULES: &[&str] = &[
     "strands/shadow.wgsl",
     "strands/ppll_build.wgsl",
     "strands/ppll_resolve.wgsl",
+    "strands/shortcut_depth.wgsl",
+    "strands/shortcut_shade.wgsl",
+    "strands/shortcut_resolve.wgsl",
     "satf/index_calc.wgsl",
     "satf/map_build.wgsl",
     "satf/cluster_shadow.wgsl",

@@ -5,8 +5,9 @@
 //!
 //! # Implementation
 //!
-//! Passes, in frame order (see `frame.rs`): [`ShadowMap`] (`shadow.wgsl`), the head pass,
-//! [`PpllBuild`] (`ppll_build.wgsl`), [`PpllResolve`] (`ppll_resolve.wgsl`).
+//! Passes, in frame order (see `frame.rs`): [`ShadowMap`] (`shadow.wgsl`), the head pass, then
+//! either [`PpllBuild`] (`ppll_build.wgsl`) and [`PpllResolve`] (`ppll_resolve.wgsl`), or
+//! [`ShortcutDepth`], [`ShortcutShade`] and [`ShortcutResolve`] (`shortcut_*.wgsl`).
 //!
 //! - **Geometry (§3, Figure 2).** Strands are lists of straight segments. The paper rasterizes
 //!   GPU lines of constant width; wgpu only draws 1-pixel lines, so the vertex shader expands each
@@ -37,11 +38,18 @@
 //!   order-independent weighted average of `tress_shading::blend`, under the front `k`; the result
 //!   is blended over the head.
 //! - **Node pool.** The pool starts at `ppll_nodes_per_pixel` nodes per target pixel (default 8:
-//!   112.5 MiB of nodes + 3.5 MiB of heads at 1280x720, inside 128 MiB) and never exceeds
-//!   `ppll_max_bytes` nor the device's storage-binding limit (128 MiB on lavapipe). When a frame
-//!   dropped fragments, the next frame grows the pool to 1.25x the nodes requested, up to the cap;
-//!   an offline frame (statistics waited for, targets cleared by the frame) is rendered again at
-//!   once with the grown pool, so a single render comes out complete when the cap allows.
+//!   112.5 MiB of nodes + 3.5 MiB of heads at 1280x720) and never exceeds `ppll_max_bytes`
+//!   (default 512 MiB) nor [`NODE_CHUNKS`] storage bindings of the device's largest size (one
+//!   binding is 128 MiB on lavapipe, so the pool is spread over up to four buffers,
+//!   `common/ppll_pool.wgsl`). When a frame dropped fragments, the next frame grows the pool to
+//!   1.25x the nodes requested, up to the cap; an offline frame (statistics waited for, targets
+//!   cleared by the frame) is rendered again at once with the grown pool, so a single render
+//!   comes out complete when the cap allows.
+//! - **Bounded-memory OIT (beyond the paper).** `oit = "shortcut"` replaces the lists with
+//!   TressFX 4.1's ShortCut, whose memory is fixed by the screen and `shortcut_k`, and which
+//!   never drops a fragment; `oit = "auto"` (the default) draws with the PPLL while its grown
+//!   pool holds the frame and with ShortCut otherwise, so the paper's scenes at 1280x720 lose
+//!   nothing. See [`oit`].
 //! - **Self-shadowing (§3.4, ADSM after Lacroix).** One depth map per light (`shadow_map_size`,
 //!   default 1024) holds the nearest hair or head depth from the light (orthographic, fitted to
 //!   the bounds of hair and head). A fragment `d` world units behind the stored depth gets the
@@ -55,20 +63,30 @@
 //!   the rasterizer alone is the paper's TressFX-like baseline.
 
 mod geometry;
+pub mod oit;
 pub(crate) mod ppll;
 pub(crate) mod ppll_build;
 mod ppll_resolve;
 mod shadow;
+mod shortcut;
+mod shortcut_depth;
+mod shortcut_resolve;
+mod shortcut_shade;
 
 use std::fmt;
 use std::str::FromStr;
 
 pub use geometry::StrandGeometry;
+pub use oit::{Oit, OitKind, OitStats};
 pub(crate) use ppll::PpllPool;
-pub use ppll::{NODE_BYTES, PpllStats};
+pub use ppll::{NODE_BYTES, NODE_CHUNKS, PpllStats};
 pub use ppll_build::PpllBuild;
 pub use ppll_resolve::{MAX_K, PpllResolve};
 pub use shadow::ShadowMap;
+pub use shortcut::{MAX_SHORTCUT_K, shortcut_bytes};
+pub use shortcut_depth::ShortcutDepth;
+pub use shortcut_resolve::ShortcutResolve;
+pub use shortcut_shade::ShortcutShade;
 
 use crate::RenderError;
 use crate::gpu::types::StrandParams;
@@ -168,12 +186,19 @@ pub struct StrandSettings {
     pub coverage: bool,
     /// How alpha follows the asset's thickness (when it has thickness).
     pub thickness_fade: ThicknessFade,
-    /// Fragments per pixel blended in sorted order (the k-buffer size), `1..=MAX_K`.
+    /// The order-independent transparency (module [`oit`]): the paper's PPLL, ShortCut, or the
+    /// choice per frame (default) that never loses a fragment offline.
+    pub oit: Oit,
+    /// Fragments per pixel blended in sorted order by the PPLL (the k-buffer size),
+    /// `1..=MAX_K`.
     pub k: u32,
     /// Initial PPLL node pool, in nodes per target pixel.
     pub ppll_nodes_per_pixel: f32,
-    /// Cap of the node pool in bytes (also bounded by the device's storage-binding limit).
+    /// Cap of the node pool in bytes (also bounded by [`NODE_CHUNKS`] of the device's largest
+    /// storage binding: 512 MiB on lavapipe).
     pub ppll_max_bytes: u64,
+    /// Fragments per pixel ShortCut blends in sorted order, `1..=MAX_SHORTCUT_K`.
+    pub shortcut_k: u32,
     /// ADSM self-shadowing on/off.
     pub shadows: bool,
     /// Shadow map edge in texels.
@@ -204,9 +229,11 @@ impl Default for StrandSettings {
             shading: Shading::KajiyaKay,
             coverage: true,
             thickness_fade: ThicknessFade::Tip,
+            oit: Oit::Auto,
             k: 16,
             ppll_nodes_per_pixel: 8.0,
-            ppll_max_bytes: 128 << 20,
+            ppll_max_bytes: 512 << 20,
+            shortcut_k: 8,
             shadows: true,
             shadow_map_size: 1024,
             shadow_r: 4.0,
@@ -240,6 +267,9 @@ impl StrandSettings {
         if self.ppll_max_bytes < NODE_BYTES {
             return bad("ppll_max_bytes", "must hold at least one node");
         }
+        if !(1..=MAX_SHORTCUT_K).contains(&self.shortcut_k) {
+            return bad("shortcut_k", &format!("must be in 1..={MAX_SHORTCUT_K}"));
+        }
         if !(16..=8192).contains(&self.shadow_map_size) {
             return bad("shadow_map_size", "must be in 16..=8192");
         }
@@ -267,6 +297,7 @@ impl StrandSettings {
             width_px: self.width_px,
             alpha: self.alpha,
             k: self.k,
+            shortcut_k: self.shortcut_k,
             shading: match self.shading {
                 Shading::KajiyaKay => 0,
                 Shading::Scheuermann => 1,
@@ -299,11 +330,28 @@ mod tests {
         assert!(nodes * NODE_BYTES <= s.ppll_max_bytes);
         assert_eq!(s.k, 16);
         assert_eq!(s.shadow_map_size, 1024);
+        assert_eq!(s.oit, Oit::Auto);
+        assert!(shortcut_bytes([1280, 720], s.shortcut_k) <= 64 << 20);
+    }
+
+    #[test]
+    fn oit_names_round_trip() {
+        for o in [Oit::Auto, Oit::Ppll, Oit::Shortcut] {
+            assert_eq!(o.name().parse::<Oit>().unwrap(), o);
+        }
+        assert!("weighted".parse::<Oit>().is_err());
     }
 
     #[test]
     fn out_of_range_settings_name_themselves() {
-        let cases: [(StrandSettings, &str); 5] = [
+        let cases: [(StrandSettings, &str); 6] = [
+            (
+                StrandSettings {
+                    shortcut_k: 17,
+                    ..Default::default()
+                },
+                "strands.shortcut_k",
+            ),
             (
                 StrandSettings {
                     k: 0,

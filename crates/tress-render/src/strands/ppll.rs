@@ -60,25 +60,46 @@ pub(crate) fn grown_capacity(capacity: u32, requested: u32, cap_nodes: u32) -> u
     want.max(capacity)
 }
 
+/// Storage buffers the node pool may span (`NODE_CHUNKS` in `common/ppll_pool.wgsl`): with
+/// lavapipe's 128 MiB bindings, a pool of up to 512 MiB (33.5M nodes).
+pub const NODE_CHUNKS: usize = 4;
+
 /// The PPLL buffers of one target size.
 #[derive(Debug)]
 pub(crate) struct PpllPool {
     pub(crate) heads: wgpu::Buffer,
-    pub(crate) nodes: wgpu::Buffer,
+    /// [`NODE_CHUNKS`] buffers; chunk `c` holds nodes `c * nodes_per_chunk ..`. Chunks the
+    /// capacity does not reach are one-node placeholders (every binding must exist).
+    pub(crate) nodes: Vec<wgpu::Buffer>,
     pub(crate) counters: wgpu::Buffer,
     pub(crate) size: [u32; 2],
     pub(crate) capacity: u32,
+    pub(crate) nodes_per_chunk: u32,
 }
 
 impl PpllPool {
-    /// Largest node count allowed by the settings' cap and the device.
+    /// Nodes one storage binding of the device holds.
+    pub(crate) fn nodes_per_chunk(ctx: &GpuContext) -> u32 {
+        let binding = ctx.caps.max_storage_binding.min(ctx.caps.max_buffer_size);
+        (binding / NODE_BYTES).clamp(1, u64::from(u32::MAX - 1)) as u32
+    }
+
+    /// Largest node count allowed by the settings' cap and the device ([`NODE_CHUNKS`]
+    /// bindings of the device's largest storage binding).
     pub(crate) fn cap_nodes(ctx: &GpuContext, max_bytes: u64) -> u32 {
-        let device = ctx.caps.max_storage_binding.min(ctx.caps.max_buffer_size);
-        (max_bytes.min(device) / NODE_BYTES).min(u64::from(u32::MAX - 1)) as u32
+        let device = u64::from(Self::nodes_per_chunk(ctx)) * NODE_CHUNKS as u64;
+        (max_bytes / NODE_BYTES)
+            .min(device)
+            .min(u64::from(u32::MAX - 1)) as u32
     }
 
     pub(crate) fn head_bytes(size: [u32; 2]) -> u64 {
         u64::from(size[0]) * u64::from(size[1]) * 4
+    }
+
+    /// Bytes of the nodes and heads.
+    pub(crate) fn bytes(&self) -> u64 {
+        u64::from(self.capacity) * NODE_BYTES + Self::head_bytes(self.size)
     }
 
     pub(crate) fn new(
@@ -95,39 +116,65 @@ impl PpllPool {
                 limit,
             });
         }
-        let node_bytes = u64::from(capacity.max(1)) * NODE_BYTES;
-        if node_bytes > limit {
+        let capacity = capacity.max(1);
+        let per_chunk = Self::nodes_per_chunk(ctx);
+        let chunks = capacity.div_ceil(per_chunk) as usize;
+        if chunks > NODE_CHUNKS {
             return Err(RenderError::Limit {
-                what: "the PPLL node pool".into(),
-                needed: node_bytes,
-                limit,
+                what: format!("the PPLL node pool ({NODE_CHUNKS} storage bindings)"),
+                needed: u64::from(capacity) * NODE_BYTES,
+                limit: u64::from(per_chunk) * NODE_CHUNKS as u64 * NODE_BYTES,
             });
         }
         ctx.scoped("allocating the PPLL", || {
             let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+            let buffer = |label: &str, size: u64, usage| {
+                ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size,
+                    usage,
+                    mapped_at_creation: false,
+                })
+            };
+            let nodes = (0..NODE_CHUNKS as u32)
+                .map(|c| {
+                    let first = c.saturating_mul(per_chunk);
+                    let count = capacity.saturating_sub(first).min(per_chunk).max(1);
+                    buffer(
+                        &format!("strands/ppll/nodes-{c}"),
+                        u64::from(count) * NODE_BYTES,
+                        storage,
+                    )
+                })
+                .collect();
             PpllPool {
-                heads: ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("strands/ppll/heads"),
-                    size: head_bytes,
-                    usage: storage,
-                    mapped_at_creation: false,
-                }),
-                nodes: ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("strands/ppll/nodes"),
-                    size: node_bytes,
-                    usage: storage,
-                    mapped_at_creation: false,
-                }),
-                counters: ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("strands/ppll/counters"),
-                    size: std::mem::size_of::<PpllCounters>() as u64,
-                    usage: storage | wgpu::BufferUsages::COPY_SRC,
-                    mapped_at_creation: false,
-                }),
+                heads: buffer("strands/ppll/heads", head_bytes, storage),
+                nodes,
+                counters: buffer(
+                    "strands/ppll/counters",
+                    std::mem::size_of::<PpllCounters>() as u64,
+                    storage | wgpu::BufferUsages::COPY_SRC,
+                ),
                 size,
-                capacity: capacity.max(1),
+                capacity,
+                nodes_per_chunk: per_chunk,
             }
         })
+    }
+
+    /// The pool's bindings 0..=5 of `common/ppll_pool.wgsl` (heads, counters, node chunks).
+    pub(crate) fn entries(&self) -> Vec<(u32, wgpu::BindingResource<'_>)> {
+        let mut e = vec![
+            (0, self.heads.as_entire_binding()),
+            (1, self.counters.as_entire_binding()),
+        ];
+        e.extend(
+            self.nodes
+                .iter()
+                .enumerate()
+                .map(|(c, b)| (2 + c as u32, b.as_entire_binding())),
+        );
+        e
     }
 
     /// Reset heads to empty lists and the counters to zero (start of the build pass).
@@ -135,6 +182,13 @@ impl PpllPool {
         encoder.clear_buffer(&self.heads, 0, None);
         encoder.clear_buffer(&self.counters, 0, None);
     }
+}
+
+/// The layout entries of `common/ppll_pool.wgsl`'s bindings, visible to the fragment stage.
+pub(crate) fn pool_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+    (0..2 + NODE_CHUNKS as u32)
+        .map(|b| crate::bind::storage(b, wgpu::ShaderStages::FRAGMENT, false))
+        .collect()
 }
 
 #[cfg(test)]

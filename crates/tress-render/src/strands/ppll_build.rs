@@ -1,9 +1,13 @@
 //! [`PpllBuild`], owner of `ppll_build.wgsl`.
 
-use crate::bind::{Layouts, bind_group, bind_group_layout, depth_texture, storage};
+use crate::bind::{Layouts, bind_group, bind_group_layout, depth_texture};
 use crate::gpu::pipeline::{RasterPipeline, depth_test, pipeline_layout};
+use crate::strands::ppll::{NODE_CHUNKS, pool_layout_entries};
 use crate::strands::{PpllPool, StrandGeometry};
 use crate::{GpuContext, RenderError, shaders};
+
+/// Binding of the head's depth in `ppll_build.wgsl` (after the pool's).
+const HEAD_DEPTH: u32 = 2 + NODE_CHUNKS as u32;
 
 /// The PPLL build pass: strands are shaded and their fragments inserted into per-pixel lists.
 #[derive(Debug)]
@@ -27,17 +31,9 @@ impl PpllBuild {
         let module =
             shaders::create_module(ctx, "strands/ppll_build.wgsl", "strands/ppll_build/shader")?;
         ctx.scoped("creating the PPLL build pipeline", || {
-            let fragment = wgpu::ShaderStages::FRAGMENT;
-            let layout = bind_group_layout(
-                ctx,
-                "strands/ppll_build/layout",
-                &[
-                    storage(0, fragment, false),
-                    storage(1, fragment, false),
-                    storage(2, fragment, false),
-                    depth_texture(3, fragment),
-                ],
-            );
+            let mut entries = pool_layout_entries();
+            entries.push(depth_texture(HEAD_DEPTH, wgpu::ShaderStages::FRAGMENT));
+            let layout = bind_group_layout(ctx, "strands/ppll_build/layout", &entries);
             let pipeline_layout = pipeline_layout(
                 ctx,
                 "strands/ppll_build/pipeline-layout",
@@ -66,17 +62,9 @@ impl PpllBuild {
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         inputs.pool.clear(encoder);
-        let group = bind_group(
-            ctx,
-            "strands/ppll_build/bind-group",
-            &self.layout,
-            &[
-                (0, inputs.pool.heads.as_entire_binding()),
-                (1, inputs.pool.nodes.as_entire_binding()),
-                (2, inputs.pool.counters.as_entire_binding()),
-                (3, wgpu::BindingResource::TextureView(inputs.depth)),
-            ],
-        );
+        let mut entries = inputs.pool.entries();
+        entries.push((HEAD_DEPTH, wgpu::BindingResource::TextureView(inputs.depth)));
+        let group = bind_group(ctx, "strands/ppll_build/bind-group", &self.layout, &entries);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("strands/ppll_build/pass"),
             color_attachments: &[],

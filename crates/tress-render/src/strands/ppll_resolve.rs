@@ -1,8 +1,9 @@
 //! [`PpllResolve`], owner of `ppll_resolve.wgsl`.
 
-use crate::bind::{Layouts, bind_group, bind_group_layout, storage};
+use crate::bind::{Layouts, bind_group, bind_group_layout};
 use crate::gpu::pipeline::{RasterPipeline, over_color_pass, pipeline_layout, premultiplied_over};
 use crate::strands::PpllPool;
+use crate::strands::ppll::pool_layout_entries;
 use crate::{GpuContext, RenderError, shaders};
 
 /// Largest `k` the resolve shader supports (`MAX_K` in `ppll_resolve.wgsl`).
@@ -29,16 +30,12 @@ impl PpllResolve {
             "strands/ppll_resolve/shader",
         )?;
         ctx.scoped("creating the PPLL resolve pipeline", || {
-            let fragment = wgpu::ShaderStages::FRAGMENT;
-            let layout = bind_group_layout(
-                ctx,
-                "strands/ppll_resolve/layout",
-                &[storage(0, fragment, true), storage(1, fragment, true)],
-            );
+            let layout =
+                bind_group_layout(ctx, "strands/ppll_resolve/layout", &pool_layout_entries());
             let pipeline_layout = pipeline_layout(
                 ctx,
                 "strands/ppll_resolve/pipeline-layout",
-                &[Some(&layouts.view), Some(&layout)],
+                &[Some(&layouts.view), None, None, Some(&layout)],
             );
             let pipeline = RasterPipeline {
                 targets: &[Some(premultiplied_over(color_format))],
@@ -63,15 +60,12 @@ impl PpllResolve {
             ctx,
             "strands/ppll_resolve/bind-group",
             &self.layout,
-            &[
-                (0, pool.heads.as_entire_binding()),
-                (1, pool.nodes.as_entire_binding()),
-            ],
+            &pool.entries(),
         );
         let mut pass = over_color_pass(encoder, "strands/ppll_resolve/pass", color, timestamps);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, view, &[]);
-        pass.set_bind_group(1, &group, &[]);
+        pass.set_bind_group(3, &group, &[]);
         pass.draw(0..3, 0..1);
     }
 }

@@ -8,15 +8,13 @@
 #include "common/camera.wgsl"
 #include "common/params.wgsl"
 #include "common/shading.wgsl"
-#include "common/ppll.wgsl"
+#include "common/ppll_pool.wgsl"
 
 // Largest k the resolve supports (the setting is clamped to it).
 const MAX_K: u32 = 32u;
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> params: StrandParams;
-@group(1) @binding(0) var<storage, read> ppll_heads: array<u32>;
-@group(1) @binding(1) var<storage, read> ppll_nodes: array<PpllNode>;
 
 @vertex
 fn vs_main(@builtin(vertex_index) vertex_index: u32) -> @builtin(position) vec4<f32> {
@@ -30,7 +28,7 @@ fn node_color(n: PpllNode) -> vec4<f32> {
 @fragment
 fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     let px = vec2<u32>(position.xy);
-    var node = ppll_heads[px.y * params.target_width + px.x];
+    var node = atomicLoad(&ppll_heads[px.y * params.target_width + px.x]);
     if node == 0u {
         discard;
     }
@@ -44,7 +42,7 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     var steps = 0u;
     while node != 0u && node <= params.node_capacity && steps < params.node_capacity {
         let index = node - 1u;
-        let n = ppll_nodes[index];
+        let n = ppll_load(index, params.nodes_per_chunk);
         node = n.next;
         steps = steps + 1u;
         var insert = index;
@@ -56,7 +54,7 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
                 continue;
             }
             // Evict the farthest of the k into the tail.
-            let c = node_color(ppll_nodes[near_node[k - 1u]]);
+            let c = node_color(ppll_load(near_node[k - 1u], params.nodes_per_chunk));
             tail = tail_accumulate(tail, c.rgb, c.a);
             count = k - 1u;
         }
@@ -73,7 +71,7 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     }
     var acc = vec4<f32>(0.0);
     for (var i = 0u; i < count; i = i + 1u) {
-        let c = node_color(ppll_nodes[near_node[i]]);
+        let c = node_color(ppll_load(near_node[i], params.nodes_per_chunk));
         acc = blend_front_to_back(acc, c.rgb, c.a);
     }
     acc = blend_under(acc, tail_resolve(tail));

@@ -14,6 +14,7 @@ use crate::{GpuContext, MAX_LIGHTS, RenderError, shaders};
 #[derive(Debug)]
 pub struct ShadowMap {
     strand_pipeline: wgpu::RenderPipeline,
+    line_pipeline: wgpu::RenderPipeline,
     head_pipeline: wgpu::RenderPipeline,
     size: u32,
     layers: Vec<wgpu::TextureView>,
@@ -42,34 +43,52 @@ impl ShadowMap {
             );
             let head_layout =
                 pipeline_layout(ctx, "strands/shadow/head-layout", &[Some(&layouts.view)]);
-            let pipeline =
-                |label, layout, vertex_entry, buffers: &[Option<wgpu::VertexBufferLayout<'_>>]| {
-                    RasterPipeline {
-                        vertex_entry,
-                        buffers,
-                        depth_stencil: Some(depth_test(true, wgpu::CompareFunction::Less)),
-                        fragment_entry: None,
-                        ..RasterPipeline::new(label, layout, &module)
-                    }
-                    .create(ctx)
-                };
+            let pipeline = |label,
+                            layout,
+                            vertex_entry,
+                            buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
+                            topology| {
+                RasterPipeline {
+                    vertex_entry,
+                    buffers,
+                    primitive: wgpu::PrimitiveState {
+                        topology,
+                        ..Default::default()
+                    },
+                    depth_stencil: Some(depth_test(true, wgpu::CompareFunction::Less)),
+                    fragment_entry: None,
+                    ..RasterPipeline::new(label, layout, &module)
+                }
+                .create(ctx)
+            };
+            let triangles = wgpu::PrimitiveTopology::TriangleList;
             let strand_pipeline = pipeline(
                 "strands/shadow/strand-pipeline",
                 &strand_layout,
                 "vs_strand",
                 &[],
+                triangles,
+            );
+            let line_pipeline = pipeline(
+                "strands/shadow/line-pipeline",
+                &strand_layout,
+                "vs_strand_line",
+                &[],
+                wgpu::PrimitiveTopology::LineList,
             );
             let head_pipeline = pipeline(
                 "strands/shadow/head-pipeline",
                 &head_layout,
                 "vs_head",
                 &[Some(HEAD_VERTEX_LAYOUT)],
+                triangles,
             );
             let texture = per_light_texture(ctx, "strands/shadow/maps", size, DEPTH_FORMAT);
             let layers = layer_views(&texture, |i| Some(format!("strands/shadow/map-{i}")));
             let cameras = LightCameras::new(ctx, "strands/shadow", "view", &layouts.view, params);
             ShadowMap {
                 strand_pipeline,
+                line_pipeline,
                 head_pipeline,
                 size,
                 layers,
@@ -96,7 +115,9 @@ impl ShadowMap {
     }
 
     /// Record one depth pass per light camera (`light_cameras.len() <= MAX_LIGHTS`). The first
-    /// pass writes the begin timestamp and the last the end timestamp of `timer_name`.
+    /// pass writes the begin timestamp and the last the end timestamp of `timer_name`. Strands
+    /// are drawn as one-texel lines when `width_px <= 1` (the default), else as ribbons
+    /// `width_px` texels wide.
     pub(crate) fn encode(
         &self,
         ctx: &GpuContext,
@@ -105,6 +126,7 @@ impl ShadowMap {
         light_cameras: &[CameraUniform],
         hair: Option<&StrandGeometry>,
         head: Option<&HeadGeometry>,
+        width_px: f32,
     ) {
         let n = light_cameras.len().min(MAX_LIGHTS);
         for (i, cam) in light_cameras.iter().take(n).enumerate() {
@@ -130,9 +152,14 @@ impl ShadowMap {
                 head.draw(&mut pass);
             }
             if let Some(hair) = hair.filter(|h| h.segment_count() > 0) {
-                pass.set_pipeline(&self.strand_pipeline);
                 pass.set_bind_group(2, &hair.bind_group, &[]);
-                pass.draw(0..hair.segment_count() * 6, 0..1);
+                if width_px <= 1.0 {
+                    pass.set_pipeline(&self.line_pipeline);
+                    pass.draw(0..hair.segment_count() * 2, 0..1);
+                } else {
+                    pass.set_pipeline(&self.strand_pipeline);
+                    pass.draw(0..hair.segment_count() * 6, 0..1);
+                }
             }
         }
     }

@@ -3,7 +3,8 @@
 //! and the memory breakdown.
 
 use anyhow::{Context, Result};
-use tress_render::session::{Memory, Session};
+use tress_render::session::{FrameDetail, Memory, Session};
+use tress_render::strands::OitStats;
 use tress_render::{Camera, GpuContext, LinearImage, OffscreenTargets, Timings, read_texture};
 use tress_scene::Scene;
 
@@ -42,6 +43,10 @@ pub(crate) struct Measurement {
     pub(crate) memory: Memory,
     /// Frames timed.
     pub(crate) frames: u32,
+    /// The strand OIT of the last timed frame (strands and hybrid frames).
+    pub(crate) oit: Option<OitStats>,
+    /// Mean FLIP against the sweep's reference frame, where the sweep has one (`oit`).
+    pub(crate) flip: Option<f64>,
 }
 
 /// Mean per-pass times over frames; passes missing from some frames average over those they
@@ -120,10 +125,15 @@ pub(crate) fn measure(
     let mut timings = Vec::with_capacity(frames as usize);
     let mut wall = 0.0;
     let mut memory = Memory::default();
+    let mut oit = None;
     for _ in 0..frames.max(1) {
         let f = session.render(ctx, &targets.targets(), camera, None)?;
         wall += f.wall_ms;
         memory = f.memory;
+        oit = match &f.detail {
+            FrameDetail::Strands(s) => s.gpu.as_ref().and_then(|g| g.oit),
+            _ => None,
+        };
         timings.push(f.timings);
     }
     let n = frames.max(1);
@@ -148,6 +158,8 @@ pub(crate) fn measure(
             coverage_pct: coverage_pct(&image, &bare),
             memory,
             frames: n,
+            oit,
+            flip: None,
         },
         image,
     ))

@@ -45,7 +45,8 @@ pub(crate) struct Args {
     /// distances, 16 spp, 192x108).
     #[arg(long)]
     quick: bool,
-    /// Run only these sweeps (repeatable): distance, strands, steps, resolution, k, patches.
+    /// Run only these sweeps (repeatable): distance, strands, steps, resolution, k, patches,
+    /// oit.
     #[arg(long = "sweep", value_name = "NAME")]
     sweeps: Vec<String>,
     /// Measure image quality against the CPU reference instead of speed (see `--spp`).
@@ -69,6 +70,30 @@ pub(crate) struct Args {
     /// Override any scene or technique setting (`key=value`), as for `render`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     sets: Vec<String>,
+}
+
+/// Set each row's mean FLIP against the reference row's frame (`sweeps::OIT_REFERENCE`).
+fn score_against_reference(rows: &mut [Row], images: &[Option<tress_render::LinearImage>]) {
+    use tress_trace::{DisplayImage, metrics};
+    let display =
+        |i: &tress_render::LinearImage| DisplayImage::from_linear(&quality::linear_to_trace(i));
+    let (name, x) = sweeps::OIT_REFERENCE;
+    let Some(reference) = rows
+        .iter()
+        .zip(images)
+        .find(|(r, _)| r.technique == name && r.x == x)
+        .and_then(|(_, i)| i.as_ref())
+        .map(display)
+    else {
+        return;
+    };
+    for (r, image) in rows.iter_mut().zip(images) {
+        if let (Ok(m), Some(image)) = (&mut r.result, image) {
+            m.flip = metrics::compare(&reference, &display(image))
+                .ok()
+                .map(|c| c.scores.flip);
+        }
+    }
 }
 
 /// Resolved run settings.
@@ -183,10 +208,12 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let mut done = Vec::new();
     for sw in plan {
         let mut rows = Vec::new();
+        let mut images = Vec::new();
         // A fresh session per sweep: the sweep's overrides never leak into the next one.
         let mut session = run.session()?;
         for (i, p) in sw.points.iter().enumerate() {
-            for t in &sw.techniques {
+            for series in &sw.series {
+                let t = series.name;
                 let pb = progress::spinner(format!(
                     "{} {}/{}: {t} at {} on {}",
                     sw.name,
@@ -196,17 +223,18 @@ pub(crate) fn run(args: Args) -> Result<()> {
                     info.name
                 ));
                 let result = (|| -> Result<_> {
-                    for s in &p.sets {
+                    for s in p.sets.iter().chain(&series.sets) {
                         session.set(&run.ctx, s)?;
                     }
-                    session.set_technique(&run.ctx, t)?;
+                    session.set_technique(&run.ctx, series.technique)?;
                     let camera = camera_at(&session, size, p.distance);
-                    let (m, _) =
-                        measure(&run.ctx, &mut session, &targets, &camera, warmup, frames)?;
-                    Ok(m)
+                    measure(&run.ctx, &mut session, &targets, &camera, warmup, frames)
                 })();
                 pb.finish_and_clear();
-                let result = result.map_err(|e| format!("{e:#}"));
+                let (result, image) = match result {
+                    Ok((m, image)) => (Ok(m), Some(image)),
+                    Err(e) => (Err(format!("{e:#}")), None),
+                };
                 match &result {
                     Ok(m) => eprintln!(
                         "{} {t} x={}: {:.2} ms ({}), coverage {:.2}%, {}",
@@ -224,7 +252,12 @@ pub(crate) fn run(args: Args) -> Result<()> {
                     x: p.x,
                     result,
                 });
+                // Only the `oit` sweep scores frames against a reference frame.
+                images.push(image.filter(|_| sw.name == "oit"));
             }
+        }
+        if sw.name == "oit" {
+            score_against_reference(&mut rows, &images);
         }
         report::write(
             &run.dir,
@@ -246,6 +279,28 @@ pub(crate) fn run(args: Args) -> Result<()> {
         quick: args.quick,
     };
     report::write(&run.dir, "summary.md", &report::markdown(&header, &done))?;
+    for (sw, rows, _) in &done {
+        if sw.name == "oit" {
+            for r in rows.iter().filter(|r| r.result.is_ok()) {
+                if let Ok(m) = &r.result {
+                    eprintln!(
+                        "oit {} k={}: {:.2} ms, {:.1} MiB, {}, mean FLIP vs {} k={} {}",
+                        r.technique,
+                        tick(r.x),
+                        m.frame_ms,
+                        m.memory.oit as f64 / f64::from(1 << 20),
+                        m.oit.map_or("no OIT".to_string(), |o| format!(
+                            "{} fragments, {} lost",
+                            o.fragments, o.lost
+                        )),
+                        sweeps::OIT_REFERENCE.0,
+                        sweeps::OIT_REFERENCE.1,
+                        m.flip.map_or("-".to_string(), |f| format!("{f:.4}"))
+                    );
+                }
+            }
+        }
+    }
     let failed = done
         .iter()
         .flat_map(|d| &d.1)

@@ -55,7 +55,9 @@ struct Score {
     heat: String,
 }
 
-fn linear_to_trace(img: &LinearImage) -> Image {
+/// A frame as the tracer's linear RGB image (alpha dropped: frames are drawn over an opaque
+/// background).
+pub(crate) fn linear_to_trace(img: &LinearImage) -> Image {
     Image {
         width: img.width,
         height: img.height,

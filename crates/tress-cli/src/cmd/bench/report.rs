@@ -22,8 +22,8 @@ const MIB: f64 = (1u64 << 20) as f64;
 
 /// The CSV header (memory columns in bytes).
 pub(crate) const CSV_HEADER: &str = "sweep,technique,x,frame_ms,timing,wall_ms,coverage_pct,\
-mem_geometry,mem_ppll,mem_volumes,mem_shadow_maps,mem_textures,mem_database,mem_total,frames,\
-passes,error";
+mem_geometry,mem_oit,mem_volumes,mem_shadow_maps,mem_textures,mem_database,mem_total,frames,\
+passes,oit,oit_fragments,oit_lost,flip,error";
 
 fn csv_field(s: &str) -> String {
     if s.contains([',', '"', '\n']) {
@@ -47,9 +47,13 @@ pub(crate) fn csv(sweep: &Sweep, rows: &[Row]) -> String {
                     .map(|(n, ms)| format!("{n}={ms:.4}"))
                     .collect::<Vec<_>>()
                     .join(";");
+                let oit = m.oit.map_or(",,".to_string(), |o| {
+                    format!("{},{},{}", o.kind.name(), o.fragments, o.lost)
+                });
+                let flip = m.flip.map_or(String::new(), |f| format!("{f:.5}"));
                 let _ = writeln!(
                     out,
-                    "{},{},{},{:.4},{},{:.4},{:.3},{mem},{},{},{},",
+                    "{},{},{},{:.4},{},{:.4},{:.3},{mem},{},{},{},{oit},{flip},",
                     sweep.name,
                     r.technique,
                     r.x,
@@ -65,7 +69,7 @@ pub(crate) fn csv(sweep: &Sweep, rows: &[Row]) -> String {
             Err(e) => {
                 let _ = writeln!(
                     out,
-                    "{},{},{},,,,,,,,,,,,,,{}",
+                    "{},{},{},,,,,,,,,,,,,,,,,,{}",
                     sweep.name,
                     r.technique,
                     r.x,
@@ -95,20 +99,21 @@ fn time_label(rows: &[Row]) -> &'static str {
 pub(crate) fn charts(dir: &Path, sweep: &Sweep, rows: &[Row]) -> Result<Vec<String>> {
     let mut written = Vec::new();
     let mut series: Vec<Series> = Vec::new();
-    for t in &sweep.techniques {
+    for t in sweep.series.iter().map(|s| s.name) {
         let points: Vec<(f64, f64)> = ok(rows)
-            .filter(|(r, _)| r.technique == *t)
+            .filter(|(r, _)| r.technique == t)
             .map(|(r, m)| (r.x, m.frame_ms))
             .collect();
         if !points.is_empty() {
             series.push(Series {
-                name: (*t).to_string(),
+                name: t.to_string(),
                 points,
             });
         }
     }
     // One technique: its passes as lines beside the total (Figure 9's breakdown).
-    if let [only] = sweep.techniques.as_slice() {
+    if let [only] = sweep.series.as_slice() {
+        let only = only.name;
         let mut passes: Vec<String> = Vec::new();
         for (_, m) in ok(rows) {
             for (n, _) in &m.passes {
@@ -147,12 +152,12 @@ pub(crate) fn charts(dir: &Path, sweep: &Sweep, rows: &[Row]) -> Result<Vec<Stri
     if sweep.name == "distance" {
         // Figure 8's other axis: the time against the hair's share of the screen.
         let cov: Vec<Series> = sweep
-            .techniques
+            .series
             .iter()
-            .map(|t| Series {
-                name: (*t).to_string(),
+            .map(|s| Series {
+                name: s.name.to_string(),
                 points: ok(rows)
-                    .filter(|(r, _)| r.technique == *t)
+                    .filter(|(r, _)| r.technique == s.name)
                     .map(|(_, m)| (m.coverage_pct.max(1e-3), m.frame_ms))
                     .collect(),
             })
@@ -175,9 +180,9 @@ pub(crate) fn charts(dir: &Path, sweep: &Sweep, rows: &[Row]) -> Result<Vec<Stri
             rows.iter().map(|r| r.x).fold(f64::NEG_INFINITY, f64::max),
         );
         let mut bars = Vec::new();
-        for t in &sweep.techniques {
+        for t in sweep.series.iter().map(|s| s.name) {
             for (tag, x) in [("near", near), ("far", far)] {
-                if let Some((_, m)) = ok(rows).find(|(r, _)| r.technique == *t && r.x == x) {
+                if let Some((_, m)) = ok(rows).find(|(r, _)| r.technique == t && r.x == x) {
                     let segs = if m.passes.is_empty() {
                         vec![("frame (CPU wall)".to_string(), m.frame_ms)]
                     } else {
@@ -198,11 +203,12 @@ pub(crate) fn charts(dir: &Path, sweep: &Sweep, rows: &[Row]) -> Result<Vec<Stri
         written.push("passes".into());
         // Figure 6: memory by kind, at the nearest distance.
         let bars = sweep
-            .techniques
+            .series
             .iter()
+            .map(|s| s.name)
             .filter_map(|t| {
                 ok(rows)
-                    .find(|(r, _)| r.technique == *t && r.x == near)
+                    .find(|(r, _)| r.technique == t && r.x == near)
                     .map(|(_, m)| {
                         let segs = m
                             .memory
@@ -211,7 +217,7 @@ pub(crate) fn charts(dir: &Path, sweep: &Sweep, rows: &[Row]) -> Result<Vec<Stri
                             .filter(|r| r.1 > 0)
                             .map(|(n, b)| ((*n).to_string(), *b as f64 / MIB))
                             .collect();
-                        ((*t).to_string(), segs)
+                        (t.to_string(), segs)
                     })
             })
             .collect();

@@ -8,6 +8,11 @@
 //! | `resolution` | volume resolution               | volume                       | Fig. 9    |
 //! | `k`          | PPLL k (sorted fragments)       | strands                      | §3.3      |
 //! | `patches`    | 3-pass vs 4-pass                | patches                      | Scheuermann slides |
+//! | `oit`        | k, PPLL vs ShortCut             | strands (two OITs)           | beyond: TressFX 4.1 |
+//!
+//! The `oit` sweep draws the strands with the paper's PPLL (its pool allowed to hold the whole
+//! frame, so it loses nothing where the device allows) and with ShortCut at each k, and scores
+//! every frame by mean FLIP against the PPLL at k = 16 (the paper's k-buffer).
 
 use anyhow::{Result, bail};
 use tress_scene::Scene;
@@ -34,14 +39,48 @@ pub(crate) struct Sweep {
     pub(crate) x_label: &'static str,
     /// Log-scaled x axis.
     pub(crate) log_x: bool,
-    /// Techniques measured at every point.
-    pub(crate) techniques: Vec<&'static str>,
+    /// What is measured at every point: techniques, or variants of one.
+    pub(crate) series: Vec<SeriesSpec>,
     /// The points.
     pub(crate) points: Vec<Point>,
 }
 
+/// One series of a sweep: a technique, and the settings that make it a variant of it.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct SeriesSpec {
+    /// Its name (CSV `technique` column, chart legend).
+    pub(crate) name: &'static str,
+    /// The technique drawn.
+    pub(crate) technique: &'static str,
+    /// Dotted scene overrides applied after the point's.
+    pub(crate) sets: Vec<String>,
+}
+
+/// Each technique as a series of its own.
+fn techniques(names: &[&'static str]) -> Vec<SeriesSpec> {
+    names
+        .iter()
+        .map(|&name| SeriesSpec {
+            name,
+            technique: name,
+            sets: Vec::new(),
+        })
+        .collect()
+}
+
 /// Every sweep's name, in the order they run.
-pub(crate) const SWEEPS: [&str; 6] = ["distance", "strands", "steps", "resolution", "k", "patches"];
+pub(crate) const SWEEPS: [&str; 7] = [
+    "distance",
+    "strands",
+    "steps",
+    "resolution",
+    "k",
+    "patches",
+    "oit",
+];
+
+/// The `oit` sweep's reference: the PPLL at the paper's k.
+pub(crate) const OIT_REFERENCE: (&str, f64) = ("ppll", 16.0);
 
 fn point(x: f64, sets: Vec<String>) -> Point {
     Point {
@@ -70,7 +109,7 @@ pub(crate) fn sweep(name: &str, quick: bool, scene: &Scene) -> Result<Sweep> {
                 title: "Frame time by camera distance (Figures 7 and 8)",
                 x_label: "camera distance (multiple of the scene's)",
                 log_x: true,
-                techniques: vec!["strands", "volume", "hybrid", "patches", "satf"],
+                series: techniques(&["strands", "volume", "hybrid", "patches", "satf"]),
                 points: (0..n)
                     .map(|i| {
                         let f = far.powf(f64::from(i) / f64::from(n - 1));
@@ -93,7 +132,7 @@ pub(crate) fn sweep(name: &str, quick: bool, scene: &Scene) -> Result<Sweep> {
                 title: "Frame time by strand count (Figure 10)",
                 x_label: "strand ratio (share of the scene's strands)",
                 log_x: false,
-                techniques: vec!["strands", "volume", "hybrid"],
+                series: techniques(&["strands", "volume", "hybrid"]),
                 points: ratios
                     .into_iter()
                     .map(|r| {
@@ -115,7 +154,7 @@ pub(crate) fn sweep(name: &str, quick: bool, scene: &Scene) -> Result<Sweep> {
             title: "Raymarcher time by raymarch steps (Figure 9)",
             x_label: "raymarch steps",
             log_x: true,
-            techniques: vec!["volume"],
+            series: techniques(&["volume"]),
             points: pick(&[32.0, 64.0, 128.0, 256.0, 512.0, 1024.0], &[64.0, 512.0])
                 .into_iter()
                 .map(|s| point(s, vec![format!("volume.steps={s}")]))
@@ -126,7 +165,7 @@ pub(crate) fn sweep(name: &str, quick: bool, scene: &Scene) -> Result<Sweep> {
             title: "Raymarcher time by volume resolution (Figure 9)",
             x_label: "volume resolution (voxels per axis)",
             log_x: true,
-            techniques: vec!["volume"],
+            series: techniques(&["volume"]),
             points: pick(&[32.0, 64.0, 128.0, 256.0], &[64.0, 128.0])
                 .into_iter()
                 .map(|r| point(r, vec![format!("volume.resolution={r}")]))
@@ -137,7 +176,7 @@ pub(crate) fn sweep(name: &str, quick: bool, scene: &Scene) -> Result<Sweep> {
             title: "Rasterizer time by PPLL k",
             x_label: "k (fragments sorted per pixel)",
             log_x: true,
-            techniques: vec!["strands"],
+            series: techniques(&["strands"]),
             points: pick(&[1.0, 2.0, 4.0, 8.0, 16.0, 32.0], &[4.0, 16.0])
                 .into_iter()
                 .map(|k| point(k, vec![format!("strands.k={k}")]))
@@ -148,10 +187,41 @@ pub(crate) fn sweep(name: &str, quick: bool, scene: &Scene) -> Result<Sweep> {
             title: "Polygon patches: 3-pass vs 4-pass (early-Z) render",
             x_label: "passes",
             log_x: false,
-            techniques: vec!["patches"],
+            series: techniques(&["patches"]),
             points: [3.0, 4.0]
                 .into_iter()
                 .map(|p| point(p, vec![format!("patches.scheme=\"{p}-pass\"")]))
+                .collect(),
+        },
+        "oit" => Sweep {
+            name: "oit",
+            title: "Strand OIT by k: the paper's PPLL vs ShortCut",
+            x_label: "k (fragments blended in order per pixel)",
+            log_x: true,
+            series: vec![
+                SeriesSpec {
+                    name: "ppll",
+                    technique: "strands",
+                    // A pool that may hold the whole frame (the device's bindings still bound it).
+                    sets: vec![
+                        "strands.oit=\"ppll\"".into(),
+                        "strands.ppll_max_mib=4096".into(),
+                    ],
+                },
+                SeriesSpec {
+                    name: "shortcut",
+                    technique: "strands",
+                    sets: vec!["strands.oit=\"shortcut\"".into()],
+                },
+            ],
+            points: pick(&[1.0, 2.0, 4.0, 8.0, 16.0], &[8.0, 16.0])
+                .into_iter()
+                .map(|k| {
+                    point(
+                        k,
+                        vec![format!("strands.k={k}"), format!("strands.shortcut_k={k}")],
+                    )
+                })
                 .collect(),
         },
         other => bail!("unknown sweep `{other}` (available: {})", SWEEPS.join(", ")),

@@ -22,6 +22,12 @@ struct StrandParams {
     light_count: u32,
     // Thickness that fades nothing in the tip mode (the asset's thickest vertex).
     thickness_ref: f32,
+    // PPLL nodes per storage buffer of the pool (`common/ppll_pool.wgsl`).
+    nodes_per_chunk: u32,
+    // ShortCut's k: nearest fragments per pixel blended in order (`strands/shortcut_*.wgsl`).
+    shortcut_k: u32,
+    // Height of the color target (ShortCut's buffers hold one layer of width x height per k).
+    target_height: u32,
 }
 
 const THICKNESS_FADE_OFF: u32 = 0u;

@@ -1,0 +1,182 @@
+//! The ShortCut buffers (`common/shortcut.wgsl`): `k` layers of depth keys and colors per pixel,
+//! the fragment counter and the tail's transmittance target. Their size is fixed by the target
+//! and `k`, never by the hair: at 1280x720 and k = 8, 56.25 MiB of layers and 1.76 MiB of
+//! transmittance.
+
+use crate::bind::{depth_texture, storage, texture_2d};
+use crate::gpu::types::PpllCounters;
+use crate::{GpuContext, RenderError};
+
+/// Largest ShortCut `k` (`MAX_SHORTCUT_K` in `common/shortcut.wgsl`).
+pub const MAX_SHORTCUT_K: u32 = 16;
+
+/// Format of the tail's transmittance target (multiplied into with `dst * (1 - src)`).
+pub(crate) const TRANSMITTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
+
+/// Binding of the head's depth (depth and shade passes) in `common/shortcut.wgsl`'s group.
+pub(crate) const HEAD_DEPTH: u32 = 3;
+/// Binding of the transmittance texture (resolve pass).
+pub(crate) const TRANSMITTANCE: u32 = 4;
+
+/// Bytes ShortCut needs for a target of `size` with `k` layers: 8 bytes a layer a pixel (key,
+/// color) and 2 bytes of transmittance a pixel (plus 16 bytes of counters).
+pub fn shortcut_bytes(size: [u32; 2], k: u32) -> u64 {
+    let pixels = u64::from(size[0]) * u64::from(size[1]);
+    pixels * u64::from(k) * 8 + pixels * 2 + 16
+}
+
+/// The layout of the depth and shade passes' group 3: keys, colors, counters, head depth.
+pub(crate) fn raster_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+    let fragment = wgpu::ShaderStages::FRAGMENT;
+    vec![
+        storage(0, fragment, false),
+        storage(1, fragment, false),
+        storage(2, fragment, false),
+        depth_texture(HEAD_DEPTH, fragment),
+    ]
+}
+
+/// The layout of the resolve pass's group 3: keys, colors, transmittance.
+pub(crate) fn resolve_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+    let fragment = wgpu::ShaderStages::FRAGMENT;
+    vec![
+        storage(0, fragment, false),
+        storage(1, fragment, false),
+        texture_2d(TRANSMITTANCE, fragment),
+    ]
+}
+
+/// ShortCut's per-target buffers.
+#[derive(Debug)]
+pub(crate) struct ShortcutBuffers {
+    pub(crate) keys: wgpu::Buffer,
+    pub(crate) colors: wgpu::Buffer,
+    pub(crate) counters: wgpu::Buffer,
+    pub(crate) transmittance: wgpu::TextureView,
+    pub(crate) size: [u32; 2],
+    pub(crate) k: u32,
+}
+
+impl ShortcutBuffers {
+    pub(crate) fn new(ctx: &GpuContext, size: [u32; 2], k: u32) -> Result<Self, RenderError> {
+        let k = k.clamp(1, MAX_SHORTCUT_K);
+        let layer_bytes = u64::from(size[0]) * u64::from(size[1]) * 4 * u64::from(k);
+        let limit = ctx.caps.max_storage_binding.min(ctx.caps.max_buffer_size);
+        if layer_bytes > limit {
+            return Err(RenderError::Limit {
+                what: format!(
+                    "ShortCut's {k} layers of a {}x{} target (lower strands.shortcut_k)",
+                    size[0], size[1]
+                ),
+                needed: layer_bytes,
+                limit,
+            });
+        }
+        ctx.scoped("allocating the ShortCut buffers", || {
+            let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+            let buffer = |label: &str, size: u64, usage| {
+                ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size,
+                    usage,
+                    mapped_at_creation: false,
+                })
+            };
+            let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("strands/shortcut/transmittance"),
+                size: wgpu::Extent3d {
+                    width: size[0],
+                    height: size[1],
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: TRANSMITTANCE_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            });
+            ShortcutBuffers {
+                keys: buffer("strands/shortcut/keys", layer_bytes, storage),
+                colors: buffer("strands/shortcut/colors", layer_bytes, storage),
+                counters: buffer(
+                    "strands/shortcut/counters",
+                    std::mem::size_of::<PpllCounters>() as u64,
+                    storage | wgpu::BufferUsages::COPY_SRC,
+                ),
+                transmittance: texture.create_view(&Default::default()),
+                size,
+                k,
+            }
+        })
+    }
+
+    /// Bytes of the layers, the transmittance target and the counters.
+    pub(crate) fn bytes(&self) -> u64 {
+        shortcut_bytes(self.size, self.k)
+    }
+
+    /// Empty every layer and zero the counters (start of the depth pass).
+    pub(crate) fn clear(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.clear_buffer(&self.keys, 0, None);
+        encoder.clear_buffer(&self.counters, 0, None);
+    }
+
+    /// Group 3 of the depth and shade passes.
+    pub(crate) fn raster_group(
+        &self,
+        ctx: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
+        head_depth: &wgpu::TextureView,
+    ) -> wgpu::BindGroup {
+        crate::bind::bind_group(
+            ctx,
+            "strands/shortcut/raster-bind-group",
+            layout,
+            &[
+                (0, self.keys.as_entire_binding()),
+                (1, self.colors.as_entire_binding()),
+                (2, self.counters.as_entire_binding()),
+                (HEAD_DEPTH, wgpu::BindingResource::TextureView(head_depth)),
+            ],
+        )
+    }
+
+    /// Group 3 of the resolve pass.
+    pub(crate) fn resolve_group(
+        &self,
+        ctx: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
+    ) -> wgpu::BindGroup {
+        crate::bind::bind_group(
+            ctx,
+            "strands/shortcut/resolve-bind-group",
+            layout,
+            &[
+                (0, self.keys.as_entire_binding()),
+                (1, self.colors.as_entire_binding()),
+                (
+                    TRANSMITTANCE,
+                    wgpu::BindingResource::TextureView(&self.transmittance),
+                ),
+            ],
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn memory_is_fixed_by_the_screen_and_k_within_64_mib_at_720p() {
+        let mib = |k| shortcut_bytes([1280, 720], k) as f64 / f64::from(1 << 20);
+        assert!(mib(8) <= 64.0, "{}", mib(8));
+        assert!(mib(4) < mib(8));
+        assert_eq!(
+            shortcut_bytes([1280, 720], 8),
+            1280 * 720 * (8 * 8 + 2) + 16
+        );
+    }
+}

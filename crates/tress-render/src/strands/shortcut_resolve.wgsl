@@ -1,0 +1,47 @@
+// ShortCut resolve pass (after TressFX 4.1's "ShortCut"): a fullscreen pass that blends each
+// pixel's claimed layers front to back (they are sorted by depth) and puts the tail under them:
+// opacity `1 - T` with T the transmittance the shade pass multiplied up, color that of the
+// farthest of the k (the tail is not shaded; its nearest neighbour in depth stands in for it,
+// see `tress_shading::resolve_shortcut`). Premultiplied, blended over the target (One,
+// OneMinusSrcAlpha) like the PPLL resolve. Owner: `ShortcutResolve`.
+
+#include "common/fullscreen.wgsl"
+#include "common/camera.wgsl"
+#include "common/params.wgsl"
+#include "common/shading.wgsl"
+#include "common/shortcut.wgsl"
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<uniform> params: StrandParams;
+@group(3) @binding(4) var transmittance: texture_2d<f32>;
+
+@vertex
+fn vs_main(@builtin(vertex_index) vertex_index: u32) -> @builtin(position) vec4<f32> {
+    return fullscreen_position(vertex_index);
+}
+
+@fragment
+fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
+    let px = vec2<u32>(position.xy);
+    let p = px.y * params.target_width + px.x;
+    let pixels = shortcut_pixels(params);
+    var acc = vec4<f32>(0.0);
+    var farthest = vec3<f32>(0.0);
+    var stored = 0u;
+    for (var i = 0u; i < shortcut_k(params); i = i + 1u) {
+        let v = atomicLoad(&shortcut_keys[i * pixels + p]);
+        // Unclaimed layers (none when the passes saw the same fragments) are skipped.
+        if (v & CLAIMED) == 0u {
+            continue;
+        }
+        let color = unpack_rgb9e5(shortcut_colors[i * pixels + p]);
+        acc = blend_front_to_back(acc, color, bitcast<f32>(v & ~CLAIMED));
+        farthest = color;
+        stored = stored + 1u;
+    }
+    if stored == 0u {
+        discard;
+    }
+    let tail_alpha = 1.0 - textureLoad(transmittance, px, 0).r;
+    return blend_under(acc, vec4<f32>(farthest * tail_alpha, tail_alpha));
+}

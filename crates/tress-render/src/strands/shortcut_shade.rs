@@ -1,0 +1,104 @@
+//! [`ShortcutShade`], owner of `shortcut_shade.wgsl`.
+
+use crate::bind::Layouts;
+use crate::gpu::pipeline::{RasterPipeline, depth_test, pipeline_layout};
+use crate::strands::StrandGeometry;
+use crate::strands::shortcut::{ShortcutBuffers, TRANSMITTANCE_FORMAT};
+use crate::{GpuContext, RenderError, shaders};
+
+/// ShortCut's shade pass: the `k` nearest fragments of each pixel are shaded into their layers,
+/// every other fragment multiplies its opacity into the tail's transmittance.
+#[derive(Debug)]
+pub struct ShortcutShade {
+    pipeline: wgpu::RenderPipeline,
+}
+
+/// `dst * (1 - src)`: the transmittance target's blend (the product of `1 - alpha`).
+const MULTIPLY_TRANSMITTANCE: wgpu::BlendComponent = wgpu::BlendComponent {
+    src_factor: wgpu::BlendFactor::Zero,
+    dst_factor: wgpu::BlendFactor::OneMinusSrc,
+    operation: wgpu::BlendOperation::Add,
+};
+
+impl ShortcutShade {
+    /// `raster_layout`: the group 3 layout the depth pass created (the two passes share it).
+    pub(crate) fn new(
+        ctx: &GpuContext,
+        layouts: &Layouts,
+        raster_layout: &wgpu::BindGroupLayout,
+    ) -> Result<Self, RenderError> {
+        let module = shaders::create_module(
+            ctx,
+            "strands/shortcut_shade.wgsl",
+            "strands/shortcut_shade/shader",
+        )?;
+        ctx.scoped("creating the ShortCut shade pipeline", || {
+            let pipeline_layout = pipeline_layout(
+                ctx,
+                "strands/shortcut_shade/pipeline-layout",
+                &[
+                    Some(&layouts.view),
+                    Some(&layouts.lighting),
+                    Some(&layouts.strands),
+                    Some(raster_layout),
+                ],
+            );
+            let target = wgpu::ColorTargetState {
+                format: TRANSMITTANCE_FORMAT,
+                blend: Some(wgpu::BlendState {
+                    color: MULTIPLY_TRANSMITTANCE,
+                    alpha: MULTIPLY_TRANSMITTANCE,
+                }),
+                write_mask: wgpu::ColorWrites::RED,
+            };
+            let pipeline = RasterPipeline {
+                depth_stencil: Some(depth_test(false, wgpu::CompareFunction::Less)),
+                targets: &[Some(target)],
+                ..RasterPipeline::new("strands/shortcut_shade/pipeline", &pipeline_layout, &module)
+            }
+            .create(ctx);
+            ShortcutShade { pipeline }
+        })
+    }
+
+    /// Record the pass: clear the transmittance to 1, then draw every segment's quad.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        view: &wgpu::BindGroup,
+        lighting: &wgpu::BindGroup,
+        geometry: &StrandGeometry,
+        buffers: &ShortcutBuffers,
+        group: &wgpu::BindGroup,
+        depth: &wgpu::TextureView,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("strands/shortcut_shade/pass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &buffers.transmittance,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::WHITE),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: None,
+                stencil_ops: None,
+            }),
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, view, &[]);
+        pass.set_bind_group(1, lighting, &[]);
+        pass.set_bind_group(2, &geometry.bind_group, &[]);
+        pass.set_bind_group(3, group, &[]);
+        pass.draw(0..geometry.segment_count() * 6, 0..1);
+    }
+}

@@ -1,0 +1,67 @@
+// ShortCut shade pass (after TressFX 4.1's "ShortCut"): a fragment whose depth is one of its
+// pixel's k nearest (found by the depth pass) claims that layer, is shaded (the PPLL's own
+// `shade_strand`) and stores its color and alpha there, to be blended in depth order by the
+// resolve. Every other fragment is the pixel's tail: it is not shaded, and its opacity is
+// multiplied into the transmittance target (blend `dst * (1 - src)`), so the tail's opacity
+// `1 - Π(1 - alpha)` is exact and independent of order. No fragment is dropped. Owner:
+// `ShortcutShade`.
+
+#include "common/strand_fragment.wgsl"
+#include "common/strand_shading.wgsl"
+#include "common/shortcut.wgsl"
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<uniform> params: StrandParams;
+@group(3) @binding(3) var head_depth: texture_depth_2d;
+
+@vertex
+fn vs_main(@builtin(vertex_index) vertex_index: u32) -> StrandVarying {
+    return strand_vertex(
+        camera,
+        vertex_index,
+        params.width_px,
+        params.thickness_fade,
+        params.thickness_ref,
+    );
+}
+
+// Claim the layer of pixel `p` holding `key`: its index, or MAX_SHORTCUT_K when every layer
+// with this key is taken (a tie beyond k) or none holds it (a tail fragment).
+fn claim_layer(p: u32, key: u32, alpha: f32) -> u32 {
+    let pixels = shortcut_pixels(params);
+    for (var i = 0u; i < shortcut_k(params); i = i + 1u) {
+        let w = i * pixels + p;
+        let v = atomicLoad(&shortcut_keys[w]);
+        if v == key {
+            loop {
+                let r = atomicCompareExchangeWeak(&shortcut_keys[w], key, CLAIMED | bitcast<u32>(alpha));
+                if r.exchanged {
+                    return i;
+                }
+                if r.old_value != key {
+                    break;
+                }
+            }
+        } else if v == 0u || ((v & CLAIMED) == 0u && v < key) {
+            // Layers are sorted nearest first: this and every later layer lie farther away.
+            break;
+        }
+    }
+    return MAX_SHORTCUT_K;
+}
+
+@fragment
+fn fs_main(in: StrandVarying) -> @location(0) vec4<f32> {
+    let alpha = strand_fragment_alpha(in, camera, params, head_depth);
+    if alpha <= 0.0 {
+        discard;
+    }
+    let p = strand_pixel_index(in, params);
+    let layer = claim_layer(p, shortcut_key(in.position.z), alpha);
+    if layer < MAX_SHORTCUT_K {
+        shortcut_colors[layer * shortcut_pixels(params) + p] = pack_rgb9e5(shade_strand(in, camera, params));
+        // Blended as `dst * (1 - 0)`: the near fragments leave the tail's transmittance alone.
+        return vec4<f32>(0.0);
+    }
+    return vec4<f32>(alpha, 0.0, 0.0, 0.0);
+}
