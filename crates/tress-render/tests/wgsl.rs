@@ -35,6 +35,7 @@ fn entry_modules_have_their_entry_points() {
         ("strands/ppll_resolve.wgsl", &["vs_main", "fs_main"]),
         ("strands/shortcut_depth.wgsl", &["vs_main", "fs_main"]),
         ("strands/shortcut_shade.wgsl", &["vs_main", "fs_main"]),
+        ("strands/shortcut_threshold.wgsl", &["cs_main"]),
         ("strands/shortcut_resolve.wgsl", &["vs_main", "fs_main"]),
         ("satf/index_calc.wgsl", &["cs_sectors", "cs_hsvs"]),
         ("satf/map_build.wgsl", &["cs_main"]),

@@ -358,11 +358,24 @@ fn settings(
 }
 
 fn strand_settings(ui: &mut Ui, s: &StrandSettings, form: &mut Form<'_>) {
+    form.choice(
+        ui,
+        "strands.oit",
+        s.oit.name(),
+        &["auto", "ppll", "shortcut"],
+    );
     form.int(
         ui,
         "strands.k",
         s.k,
         1..=tress_render::strands::MAX_K,
+        false,
+    );
+    form.int(
+        ui,
+        "strands.shortcut_k",
+        s.shortcut_k,
+        1..=tress_render::strands::MAX_SHORTCUT_K,
         false,
     );
     form.log_float(ui, "strands.width_px", s.width_px, 0.25..=16.0, Apply::Live);

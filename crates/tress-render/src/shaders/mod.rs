@@ -75,6 +75,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../strands/shortcut_shade.wgsl"),
     ),
     (
+        "strands/shortcut_threshold.wgsl",
+        include_str!("../strands/shortcut_threshold.wgsl"),
+    ),
+    (
         "strands/shortcut_resolve.wgsl",
         include_str!("../strands/shortcut_resolve.wgsl"),
     ),
@@ -150,6 +154,7 @@ pub const ENTRY_MODULES: &[&str] = &[
     "strands/ppll_resolve.wgsl",
     "strands/shortcut_depth.wgsl",
     "strands/shortcut_shade.wgsl",
+    "strands/shortcut_threshold.wgsl",
     "strands/shortcut_resolve.wgsl",
     "satf/index_calc.wgsl",
     "satf/map_build.wgsl",

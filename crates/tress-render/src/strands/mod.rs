@@ -72,6 +72,7 @@ mod shortcut;
 mod shortcut_depth;
 mod shortcut_resolve;
 mod shortcut_shade;
+mod shortcut_threshold;
 
 use std::fmt;
 use std::str::FromStr;
@@ -87,6 +88,7 @@ pub use shortcut::{MAX_SHORTCUT_K, shortcut_bytes};
 pub use shortcut_depth::ShortcutDepth;
 pub use shortcut_resolve::ShortcutResolve;
 pub use shortcut_shade::ShortcutShade;
+pub use shortcut_threshold::ShortcutThreshold;
 
 use crate::RenderError;
 use crate::gpu::types::StrandParams;

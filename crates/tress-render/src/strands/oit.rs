@@ -1,6 +1,7 @@
 //! Order-independent transparency of the strand rasterizer: the paper's PPLL k-buffer
 //! ([`PpllBuild`] + [`PpllResolve`]), the bounded-memory ShortCut ([`ShortcutDepth`] +
-//! [`ShortcutShade`] + [`ShortcutResolve`]), and the per-frame choice between them
+//! [`ShortcutThreshold`] + [`ShortcutShade`] + [`ShortcutResolve`]), and the per-frame choice
+//! between them
 //! ([`Oit::Auto`], the default).
 //!
 //! # Implementation
@@ -10,11 +11,13 @@
 //!   [`NODE_CHUNKS`] storage bindings of the device's largest size. Fragments beyond the pool are
 //!   dropped and counted (design rule 8): with [`Oit::Ppll`] they are lost.
 //! - **ShortCut** (after TressFX 4.1's "ShortCut" OIT): a depth-only pass keeps each pixel's `k`
-//!   nearest fragment depths (an `atomicMax` chain over `k` sorted key layers), a shade pass
-//!   shades just those `k` fragments into their layers and multiplies every other fragment's
-//!   opacity into a transmittance target, and a resolve blends the `k` layers front to back
-//!   with the tail under them. Its memory is fixed by the screen and `k` (58 MiB at 1280x720,
-//!   k = 8), it never drops a fragment, and it shades at most `k` fragments a pixel. The tail's
+//!   nearest fragment depths (an `atomicMax` chain over `k` sorted key layers; a fragment
+//!   farther than a full set of `k` stops after one load), a threshold pass copies each pixel's
+//!   k-th key, a shade pass shades just the `k` nearest fragments into their layers and
+//!   multiplies every other fragment's opacity into a transmittance target (a fragment beyond
+//!   the threshold costs one load), and a resolve blends the `k` layers front to back with the
+//!   tail under them. Its memory is fixed by the screen and `k` (61.5 MiB at 1280x720, k = 8),
+//!   it never drops a fragment, and it shades at most `k` fragments a pixel. The tail's
 //!   opacity is exact; its color is not shaded and the farthest of the `k` stands in for it
 //!   (TressFX uses the mean of the `k`; the farthest is nearer in depth, hence in
 //!   self-shadowing, to what lies behind it). CPU twin: `tress_shading::resolve_shortcut`.
@@ -38,6 +41,7 @@ use crate::strands::shortcut::ShortcutBuffers;
 use crate::strands::shortcut_depth::ShortcutDepth;
 use crate::strands::shortcut_resolve::ShortcutResolve;
 use crate::strands::shortcut_shade::ShortcutShade;
+use crate::strands::shortcut_threshold::ShortcutThreshold;
 use crate::strands::{PpllBuild, PpllPool, PpllResolve, StrandGeometry, StrandSettings};
 use crate::{GpuContext, RenderError};
 
@@ -139,6 +143,7 @@ pub(crate) struct StrandOit {
     build: PpllBuild,
     resolve: PpllResolve,
     depth: ShortcutDepth,
+    threshold: ShortcutThreshold,
     shade: ShortcutShade,
     shortcut_resolve: ShortcutResolve,
     pool: Option<PpllPool>,
@@ -160,6 +165,7 @@ impl StrandOit {
             build: PpllBuild::new(ctx, layouts)?,
             resolve: PpllResolve::new(ctx, layouts, color_format)?,
             shortcut_resolve: ShortcutResolve::new(ctx, &layouts.view, color_format)?,
+            threshold: ShortcutThreshold::new(ctx)?,
             depth,
             shade,
             pool: None,
@@ -312,6 +318,12 @@ impl StrandOit {
                     &group,
                     inputs.depth,
                     timer.render_writes("strands/shortcut_depth", true, true),
+                );
+                self.threshold.encode(
+                    ctx,
+                    encoder,
+                    buffers,
+                    timer.compute_writes("strands/shortcut_threshold", true, true),
                 );
                 self.shade.encode(
                     encoder,

@@ -1,7 +1,7 @@
 //! The ShortCut buffers (`common/shortcut.wgsl`): `k` layers of depth keys and colors per pixel,
-//! the fragment counter and the tail's transmittance target. Their size is fixed by the target
-//! and `k`, never by the hair: at 1280x720 and k = 8, 56.25 MiB of layers and 1.76 MiB of
-//! transmittance.
+//! the k-th key per pixel, the fragment counter and the tail's transmittance target. Their size
+//! is fixed by the target and `k`, never by the hair: at 1280x720 and k = 8, 56.25 MiB of layers,
+//! 3.5 MiB of k-th keys and 1.76 MiB of transmittance (61.5 MiB).
 
 use crate::bind::{depth_texture, storage, texture_2d};
 use crate::gpu::types::PpllCounters;
@@ -17,15 +17,18 @@ pub(crate) const TRANSMITTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat
 pub(crate) const HEAD_DEPTH: u32 = 3;
 /// Binding of the transmittance texture (resolve pass).
 pub(crate) const TRANSMITTANCE: u32 = 4;
+/// Binding of the per-pixel k-th key (shade pass).
+pub(crate) const FAR: u32 = 5;
 
 /// Bytes ShortCut needs for a target of `size` with `k` layers: 8 bytes a layer a pixel (key,
-/// color) and 2 bytes of transmittance a pixel (plus 16 bytes of counters).
+/// color), 4 bytes of k-th key and 2 bytes of transmittance a pixel (plus 16 bytes of counters).
 pub fn shortcut_bytes(size: [u32; 2], k: u32) -> u64 {
     let pixels = u64::from(size[0]) * u64::from(size[1]);
-    pixels * u64::from(k) * 8 + pixels * 2 + 16
+    pixels * u64::from(k) * 8 + pixels * 6 + 16
 }
 
-/// The layout of the depth and shade passes' group 3: keys, colors, counters, head depth.
+/// The layout of the depth and shade passes' group 3: keys, colors, counters, head depth, k-th
+/// keys.
 pub(crate) fn raster_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
     let fragment = wgpu::ShaderStages::FRAGMENT;
     vec![
@@ -33,6 +36,7 @@ pub(crate) fn raster_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
         storage(1, fragment, false),
         storage(2, fragment, false),
         depth_texture(HEAD_DEPTH, fragment),
+        storage(FAR, fragment, true),
     ]
 }
 
@@ -52,6 +56,8 @@ pub(crate) struct ShortcutBuffers {
     pub(crate) keys: wgpu::Buffer,
     pub(crate) colors: wgpu::Buffer,
     pub(crate) counters: wgpu::Buffer,
+    /// Per pixel: the key of its k-th nearest fragment (`shortcut_threshold.wgsl`).
+    pub(crate) far: wgpu::Buffer,
     pub(crate) transmittance: wgpu::TextureView,
     pub(crate) size: [u32; 2],
     pub(crate) k: u32,
@@ -99,6 +105,11 @@ impl ShortcutBuffers {
             });
             ShortcutBuffers {
                 keys: buffer("strands/shortcut/keys", layer_bytes, storage),
+                far: buffer(
+                    "strands/shortcut/far",
+                    u64::from(size[0]) * u64::from(size[1]) * 4,
+                    storage,
+                ),
                 colors: buffer("strands/shortcut/colors", layer_bytes, storage),
                 counters: buffer(
                     "strands/shortcut/counters",
@@ -139,6 +150,7 @@ impl ShortcutBuffers {
                 (1, self.colors.as_entire_binding()),
                 (2, self.counters.as_entire_binding()),
                 (HEAD_DEPTH, wgpu::BindingResource::TextureView(head_depth)),
+                (FAR, self.far.as_entire_binding()),
             ],
         )
     }
@@ -176,7 +188,7 @@ mod tests {
         assert!(mib(4) < mib(8));
         assert_eq!(
             shortcut_bytes([1280, 720], 8),
-            1280 * 720 * (8 * 8 + 2) + 16
+            1280 * 720 * (8 * 8 + 6) + 16
         );
     }
 }

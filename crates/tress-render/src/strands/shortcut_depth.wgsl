@@ -32,6 +32,12 @@ fn fs_main(in: StrandVarying) {
     // Insertion into the sorted layers: each atomicMax keeps the nearer of the two keys in the
     // layer and passes the farther one on; an empty layer (0) ends the chain.
     var key = shortcut_key(in.position.z);
+    // The k nearest so far are all at least as near: this fragment is a tail fragment, and the
+    // layers only ever get nearer (one load instead of k atomics for most of a dense pixel).
+    let kth = shortcut_k(params) - 1u;
+    if atomicLoad(&shortcut_keys[kth * pixels + p]) >= key {
+        return;
+    }
     for (var i = 0u; i < shortcut_k(params); i = i + 1u) {
         let prev = atomicMax(&shortcut_keys[i * pixels + p], key);
         if prev == 0u {

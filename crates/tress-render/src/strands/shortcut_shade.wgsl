@@ -57,7 +57,12 @@ fn fs_main(in: StrandVarying) -> @location(0) vec4<f32> {
         discard;
     }
     let p = strand_pixel_index(in, params);
-    let layer = claim_layer(p, shortcut_key(in.position.z), alpha);
+    let key = shortcut_key(in.position.z);
+    // Farther than the pixel's k-th nearest: the tail, told by one load.
+    if key < shortcut_far[p] {
+        return vec4<f32>(alpha, 0.0, 0.0, 0.0);
+    }
+    let layer = claim_layer(p, key, alpha);
     if layer < MAX_SHORTCUT_K {
         shortcut_colors[layer * shortcut_pixels(params) + p] = pack_rgb9e5(shade_strand(in, camera, params));
         // Blended as `dst * (1 - 0)`: the near fragments leave the tail's transmittance alone.

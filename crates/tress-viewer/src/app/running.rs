@@ -451,6 +451,12 @@ pub(super) fn detail(d: &FrameDetail) -> String {
             let mut line = format!("{} segments, PPLL capacity {}", s.segments, s.ppll_capacity);
             if let Some(g) = &s.gpu {
                 line += &format!(" ({} used, {} dropped)", g.ppll.used, g.ppll.dropped);
+                if let Some(o) = g.oit {
+                    line += &format!(
+                        ", OIT {}: {} fragments, {} lost",
+                        o.kind, o.fragments, o.lost
+                    );
+                }
             }
             if let Some(v) = &s.volume {
                 line += &format!(", volume {}³", v.resolution);

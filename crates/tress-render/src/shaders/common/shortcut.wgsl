@@ -27,6 +27,9 @@ const CLAIMED: u32 = 0x80000000u;
 @group(3) @binding(0) var<storage, read_write> shortcut_keys: array<atomic<u32>>;
 @group(3) @binding(1) var<storage, read_write> shortcut_colors: array<u32>;
 @group(3) @binding(2) var<storage, read_write> shortcut_counters: ShortcutCounters;
+// Per pixel: the key of its k-th nearest fragment after the depth pass (0: fewer than k), copied
+// by the threshold pass before the shade pass claims layers.
+@group(3) @binding(5) var<storage, read> shortcut_far: array<u32>;
 
 // The layer-sorting key of a depth in [0, 1]: larger is nearer, never 0 and never CLAIMED.
 fn shortcut_key(depth: f32) -> u32 {
