@@ -34,7 +34,9 @@ use crate::inputs::union_sphere;
 use crate::lod::{FramePlan, HybridSettings, LodBlend, LodLayers, Technique};
 use crate::stats::{FrameStats, ReadbackRing, SlotInfo, StatsReadback, VolumeFrame};
 use crate::strands::oit::{OitInputs, StrandOit};
-use crate::strands::{PpllPool, ShadowMap, StrandGeometry, StrandSettings, ThicknessFade};
+use crate::strands::{
+    PpllPool, ShadowCasters, ShadowMap, StrandGeometry, StrandSettings, ThicknessFade,
+};
 use crate::volume::raymarch::RaymarchInputs;
 use crate::volume::{Raymarch, ShadowMode, VolumeSettings, Voxelizer};
 use crate::{Camera, DirectionalLight, GpuContext, MAX_LIGHTS, Material, RenderError};
@@ -329,9 +331,11 @@ impl Renderer {
                     &mut encoder,
                     timer,
                     &light_cameras,
-                    hair,
-                    inputs.head,
-                    shadow_width_px,
+                    ShadowCasters {
+                        hair,
+                        head: inputs.head,
+                        width_px: shadow_width_px,
+                    },
                 );
             }
             // ---- opaque head, depth written

@@ -83,6 +83,7 @@ pub(crate) use ppll::PpllPool;
 pub use ppll::{NODE_BYTES, NODE_CHUNKS, PpllStats};
 pub use ppll_build::PpllBuild;
 pub use ppll_resolve::{MAX_K, PpllResolve};
+pub(crate) use shadow::ShadowCasters;
 pub use shadow::ShadowMap;
 pub use shortcut::{MAX_SHORTCUT_K, shortcut_bytes};
 pub use shortcut_depth::ShortcutDepth;

@@ -312,11 +312,9 @@ impl StrandOit {
                 let group = buffers.raster_group(ctx, &self.depth.layout, inputs.depth);
                 self.depth.encode(
                     encoder,
-                    inputs.view,
-                    inputs.geometry,
+                    inputs,
                     buffers,
                     &group,
-                    inputs.depth,
                     timer.render_writes("strands/shortcut_depth", true, true),
                 );
                 self.threshold.encode(
@@ -327,12 +325,9 @@ impl StrandOit {
                 );
                 self.shade.encode(
                     encoder,
-                    inputs.view,
-                    inputs.lighting,
-                    inputs.geometry,
+                    inputs,
                     buffers,
                     &group,
-                    inputs.depth,
                     timer.render_writes("strands/shortcut_shade", true, true),
                 );
                 self.shortcut_resolve.encode(

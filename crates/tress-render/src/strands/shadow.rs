@@ -21,6 +21,15 @@ pub struct ShadowMap {
     cameras: LightCameras,
 }
 
+/// What the shadow maps are drawn from.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ShadowCasters<'a> {
+    pub(crate) hair: Option<&'a StrandGeometry>,
+    pub(crate) head: Option<&'a HeadGeometry>,
+    /// Strand width in shadow-map texels (`shadow_width_px`).
+    pub(crate) width_px: f32,
+}
+
 impl ShadowMap {
     pub(crate) fn new(
         ctx: &GpuContext,
@@ -124,10 +133,13 @@ impl ShadowMap {
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut crate::gpu::GpuTimer,
         light_cameras: &[CameraUniform],
-        hair: Option<&StrandGeometry>,
-        head: Option<&HeadGeometry>,
-        width_px: f32,
+        casters: ShadowCasters<'_>,
     ) {
+        let ShadowCasters {
+            hair,
+            head,
+            width_px,
+        } = casters;
         let n = light_cameras.len().min(MAX_LIGHTS);
         for (i, cam) in light_cameras.iter().take(n).enumerate() {
             let camera = self.cameras.set(ctx, i, cam);

@@ -2,7 +2,7 @@
 
 use crate::bind::{Layouts, bind_group_layout};
 use crate::gpu::pipeline::{RasterPipeline, depth_test, pipeline_layout};
-use crate::strands::StrandGeometry;
+use crate::strands::oit::OitInputs;
 use crate::strands::shortcut::{ShortcutBuffers, raster_layout_entries};
 use crate::{GpuContext, RenderError, shaders};
 
@@ -49,11 +49,9 @@ impl ShortcutDepth {
     pub(crate) fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        view: &wgpu::BindGroup,
-        geometry: &StrandGeometry,
+        inputs: &OitInputs<'_>,
         buffers: &ShortcutBuffers,
         group: &wgpu::BindGroup,
-        depth: &wgpu::TextureView,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         buffers.clear(encoder);
@@ -61,7 +59,7 @@ impl ShortcutDepth {
             label: Some("strands/shortcut_depth/pass"),
             color_attachments: &[],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth,
+                view: inputs.depth,
                 depth_ops: None,
                 stencil_ops: None,
             }),
@@ -70,9 +68,9 @@ impl ShortcutDepth {
             multiview_mask: None,
         });
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, view, &[]);
-        pass.set_bind_group(2, &geometry.bind_group, &[]);
+        pass.set_bind_group(0, inputs.view, &[]);
+        pass.set_bind_group(2, &inputs.geometry.bind_group, &[]);
         pass.set_bind_group(3, group, &[]);
-        pass.draw(0..geometry.segment_count() * 6, 0..1);
+        pass.draw(0..inputs.geometry.segment_count() * 6, 0..1);
     }
 }

@@ -2,7 +2,7 @@
 
 use crate::bind::Layouts;
 use crate::gpu::pipeline::{RasterPipeline, depth_test, pipeline_layout};
-use crate::strands::StrandGeometry;
+use crate::strands::oit::OitInputs;
 use crate::strands::shortcut::{ShortcutBuffers, TRANSMITTANCE_FORMAT};
 use crate::{GpuContext, RenderError, shaders};
 
@@ -62,16 +62,12 @@ impl ShortcutShade {
     }
 
     /// Record the pass: clear the transmittance to 1, then draw every segment's quad.
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        view: &wgpu::BindGroup,
-        lighting: &wgpu::BindGroup,
-        geometry: &StrandGeometry,
+        inputs: &OitInputs<'_>,
         buffers: &ShortcutBuffers,
         group: &wgpu::BindGroup,
-        depth: &wgpu::TextureView,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -86,7 +82,7 @@ impl ShortcutShade {
                 },
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth,
+                view: inputs.depth,
                 depth_ops: None,
                 stencil_ops: None,
             }),
@@ -95,10 +91,10 @@ impl ShortcutShade {
             multiview_mask: None,
         });
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, view, &[]);
-        pass.set_bind_group(1, lighting, &[]);
-        pass.set_bind_group(2, &geometry.bind_group, &[]);
+        pass.set_bind_group(0, inputs.view, &[]);
+        pass.set_bind_group(1, inputs.lighting, &[]);
+        pass.set_bind_group(2, &inputs.geometry.bind_group, &[]);
         pass.set_bind_group(3, group, &[]);
-        pass.draw(0..geometry.segment_count() * 6, 0..1);
+        pass.draw(0..inputs.geometry.segment_count() * 6, 0..1);
     }
 }
