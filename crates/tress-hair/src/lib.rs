@@ -11,6 +11,7 @@ mod error;
 mod follow;
 pub mod formats;
 pub mod generate;
+mod kdtree;
 mod merge;
 mod ops;
 pub mod patches;
@@ -18,4 +19,4 @@ pub mod rng;
 
 pub use asset::{Aabb, HairAsset, LengthStats};
 pub use error::HairError;
-pub use follow::FollowParams;
+pub use follow::{DEFAULT_RADIUS_FACTOR, FollowMode, FollowParams, FollowRadius, FollowReport};

@@ -415,3 +415,49 @@ fn material_converts_to_shading_parameters() {
         (m.base_color, m.primary_color, m.primary_exponent)
     );
 }
+
+#[test]
+fn follow_radius_in_world_units_or_times_the_spacing() {
+    use tress_hair::{FollowMode, FollowParams, FollowRadius};
+    let follow = |text: &str| -> Result<FollowParams, SceneError> {
+        let s = parse(&format!(
+            "[[hair]]\ngenerator = {{ style = \"straight\" }}\nfollow = {{ {text} }}\n"
+        ))?;
+        Ok(s.hair[0].follow.as_ref().unwrap().into())
+    };
+    let p = follow("count = 2, mode = \"offset\", root_radius = \"0.6x\"").unwrap();
+    assert_eq!(
+        (p.count, p.mode, p.root_radius),
+        (2, FollowMode::Offset, FollowRadius::Spacing(0.6))
+    );
+    let p = follow("count = 1, root_radius = 0.25").unwrap();
+    assert_eq!(
+        (p.mode, p.root_radius),
+        (FollowMode::Interpolate, FollowRadius::World(0.25))
+    );
+    assert_eq!(
+        follow("count = 1").unwrap(),
+        FollowParams {
+            count: 1,
+            ..Default::default()
+        }
+    );
+    for bad in [
+        "mode = \"clump\"",
+        "root_radius = \"big\"",
+        "root_radius = -1.0",
+    ] {
+        let e = message(follow(bad).unwrap_err());
+        assert!(
+            e.contains("follow") || e.contains("radius") || e.contains("mode"),
+            "{bad}: {e}"
+        );
+    }
+    // Written back as it was given.
+    let mut s =
+        parse("[[hair]]\nfiles = [\"a.hair\"]\nfollow = { root_radius = \"0.5x\" }\n").unwrap();
+    s.base_dir = PathBuf::from("base");
+    let text = s.to_toml_string().unwrap();
+    assert!(text.contains("root_radius = \"0.5x\""), "{text}");
+    assert_eq!(parse(&text).unwrap(), s);
+}

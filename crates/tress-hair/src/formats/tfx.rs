@@ -61,8 +61,9 @@
 //!   per-strand thickness (its unit, world width or a multiplier, is not documented), and the 3.x
 //!   guide flags.
 //! - 3.x `numFollowHairsPerGuideHair` is honoured: [`read_tfx`] generates that many followers per
-//!   guide with [`HairAsset::with_follow_hairs`] and [`FollowParams::default`]'s radius and tip
-//!   separation (the file stores neither; AMD's runtimes take them from their settings, and the 3.0
+//!   guide with [`HairAsset::with_follow_hairs`] and [`FollowParams::default`]'s mode, radius and
+//!   tip separation (interpolated between guides, the radius derived from the guides' root
+//!   spacing; the file stores neither: AMD's runtimes take them from their settings, and the 3.0
 //!   loader even replaces the file's count with its own). At most 64 followers per guide are
 //!   accepted, so a 4-byte header value cannot blow a small file up into gigabytes.
 //!   [`parse_tfx`] returns the guides and the count without generating anything.
