@@ -74,7 +74,10 @@
 
 pub mod blend;
 pub mod coverage;
+pub mod dual_scattering;
+pub mod fiber;
 pub mod kajiya_kay;
+pub mod marschner;
 pub mod scheuermann;
 pub mod shadow;
 #[cfg(test)]
