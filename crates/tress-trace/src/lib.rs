@@ -127,6 +127,7 @@
 //! ```
 
 pub mod bvh;
+pub mod chiang;
 mod error;
 pub mod geometry;
 mod image;
