@@ -341,7 +341,8 @@ pub fn dual_scattering_lighting(
     let sum = Vec3::splat(a.sin_theta_i + a.sin_theta_o);
     let back = at.a_b * gaussian3(at.sigma_b2, sum - at.delta_b);
     let f_direct = direct * (single + d_b * back * ((1.0 + a.cos_phi) / TAU));
-    let t_f = Vec3::new(at.a_f.x.powf(n), at.a_f.y.powf(n), at.a_f.z.powf(n));
+    let a_f = at.a_f.max(Vec3::splat(1e-8));
+    let t_f = Vec3::new(a_f.x.powf(n), a_f.y.powf(n), a_f.z.powf(n));
     let spread2 = n * at.beta_f2;
     let back_spread = at.a_b * gaussian3(at.sigma_b2 + Vec3::splat(spread2), sum - at.delta_b);
     let f_scatter = (t_f - Vec3::splat(direct)).max(Vec3::ZERO)
