@@ -364,3 +364,35 @@ fn absorption_only_takes_light_away() {
     let tt = brown.eval(wo, local(-0.1, PI - 0.3));
     assert!(tt.x > tt.y && tt.y > tt.z, "{tt}");
 }
+
+#[test]
+fn karis_and_chiang_tilt_the_r_lobe_the_same_way() {
+    // The real-time R lobe (tress-shading's Karis twin) and the reference's move their peak by
+    // the same amount in the same direction when the cuticle tilts, for the tangent from root
+    // to tip: the two models share the sign convention.
+    use tress_shading::marschner::{Marschner, hair_angles, marschner_r};
+    let peak = |f: &dyn Fn(f32) -> f32| -> f32 {
+        (-900..=900)
+            .map(|k| k as f32 / 1000.0)
+            .max_by(|&a, &b| f(a).total_cmp(&f(b)))
+            .unwrap()
+    };
+    for theta_o in [-0.5f32, -0.1, 0.3] {
+        let wo = local(theta_o.sin(), 0.0);
+        let at = |alpha: f32| {
+            let fib = fiber(0.2, 0.3, Vec3::splat(1e4), alpha);
+            let bsdf = ChiangBsdf::new(&fib, 0.0);
+            let m = Marschner::from_fiber(&fib);
+            let chiang = peak(&|s| bsdf.eval(wo, local(s, 0.0)).x);
+            let karis = peak(&|s| marschner_r(&m, &hair_angles(Vec3::X, local(s, 0.0), wo)));
+            (chiang, karis)
+        };
+        let (c0, k0) = at(0.0);
+        let (c3, k3) = at(3.0);
+        let (dc, dk) = (c3 - c0, k3 - k0);
+        assert!(dc > 0.0 && dk > 0.0, "θo {theta_o}: chiang {dc}, karis {dk}");
+        assert!((dc - dk).abs() < 0.3 * dk, "θo {theta_o}: chiang {dc}, karis {dk}");
+        // Untilted, both peak on the specular cone sin θi = -sin θo.
+        assert!((c0 + theta_o.sin()).abs() < 0.02 && (k0 + theta_o.sin()).abs() < 0.02);
+    }
+}
