@@ -226,9 +226,10 @@ impl Segment {
         let s = closest_segment_param(ray, self.a, self.b);
         let r = self.radius[0] + (self.radius[1] - self.radius[0]) * s;
         // Cheap rejection: the segment's closest point is farther than r from the ray's line.
+        // (The perpendicular part itself, not |q|² - along²: see `intersect_capsule`.)
         let q = self.a + (self.b - self.a) * s - ray.origin;
-        let along = q.dot(ray.dir);
-        if q.length_squared() - along * along > r * r {
+        let perp = q - q.dot(ray.dir) * ray.dir;
+        if perp.length_squared() > r * r {
             return None;
         }
         let hit = intersect_capsule(ray, self.a, self.b, r)?;
