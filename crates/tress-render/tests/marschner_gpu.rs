@@ -57,14 +57,22 @@ fn cases() -> Vec<Case> {
                 _ => {}
             }
             let fiber = HairFiber {
-                sigma_a: Vec3::new(rng.range(0.0, 3.0), rng.range(0.0, 3.0), rng.range(0.0, 3.0)),
+                sigma_a: Vec3::new(
+                    rng.range(0.0, 3.0),
+                    rng.range(0.0, 3.0),
+                    rng.range(0.0, 3.0),
+                ),
                 beta_m: rng.range(0.1, 0.9),
                 beta_n: 0.3,
                 alpha: rng.range(-5.0, 5.0).to_radians(),
                 eta: rng.range(1.3, 1.8),
             };
             let m = Marschner::from_fiber(&fiber);
-            let strands = if i % 8 == 0 { 0.0 } else { rng.range(0.0, 40.0) };
+            let strands = if i % 8 == 0 {
+                0.0
+            } else {
+                rng.range(0.0, 40.0)
+            };
             let direct = if i % 8 == 1 { 1.0 } else { rng.next() };
             Case {
                 t: t.extend(strands).to_array(),
@@ -73,7 +81,12 @@ fn cases() -> Vec<Case> {
                 m0: m.sigma_a.extend(m.eta).to_array(),
                 m1: m.beta.extend(m.alpha).to_array(),
                 c: rng.color().extend(rng.range(-1.0, 1.0)).to_array(),
-                g: [rng.range(0.05, 1.0), rng.range(1.2, 2.0), rng.range(-0.2, 1.2), 0.0],
+                g: [
+                    rng.range(0.05, 1.0),
+                    rng.range(1.2, 2.0),
+                    rng.range(-0.2, 1.2),
+                    0.0,
+                ],
             }
         })
         .collect()
@@ -212,5 +225,8 @@ fn marschner_wgsl_matches_cpu_twins() {
         .filter(|(c, w)| w[6].max_element() > 1.05 * w[5].max_element() && c.l[3] < 0.5)
         .count();
     assert!(lit > CASES / 10, "too few cases with a visible lobe: {lit}");
-    assert!(scattered > CASES / 20, "too few cases lit through the hair: {scattered}");
+    assert!(
+        scattered > CASES / 20,
+        "too few cases lit through the hair: {scattered}"
+    );
 }

@@ -138,7 +138,11 @@ impl Material {
                 ));
             }
             (true, Some(_), None) | (true, None, Some(_)) => {
-                let key = if self.sigma_a.is_some() { "sigma_a" } else { "target_color" };
+                let key = if self.sigma_a.is_some() {
+                    "sigma_a"
+                } else {
+                    "target_color"
+                };
                 return Err(SceneError::invalid(
                     key,
                     "give one of melanin (eumelanin, pheomelanin), sigma_a or target_color",
@@ -176,7 +180,11 @@ impl Material {
             eta: self.eta,
         };
         fiber.validate().map_err(|e| {
-            let key = if e.name == "alpha" { "alpha_deg" } else { e.name };
+            let key = if e.name == "alpha" {
+                "alpha_deg"
+            } else {
+                e.name
+            };
             let reason = match e.name {
                 "alpha" => format!("must lie in [-20, 20], got {}", self.alpha_deg),
                 _ => e.reason,
@@ -243,7 +251,10 @@ mod tests {
             (m(Some(1.0), Some(s), None), "sigma_a"),
             (m(Some(1.0), None, Some(c)), "target_color"),
             (m(None, Some(s), Some(c)), "target_color"),
-            (m(None, None, Some(Vec3::new(0.0, 0.5, 0.5))), "target_color"),
+            (
+                m(None, None, Some(Vec3::new(0.0, 0.5, 0.5))),
+                "target_color",
+            ),
             (m(Some(-1.0), None, None), "eumelanin"),
             (m(None, Some(-s), None), "sigma_a"),
         ] {
@@ -301,7 +312,10 @@ mod tests {
             .apply_override("hair.0.material.beta_n=2")
             .unwrap_err()
             .to_string();
-        assert!(e.contains("hair.0.material.beta_n: must lie in [0.01, 1]"), "{e}");
+        assert!(
+            e.contains("hair.0.material.beta_n: must lie in [0.01, 1]"),
+            "{e}"
+        );
         scene.apply_override("hair.0.material.eta=1.6").unwrap();
         assert_eq!(scene.hair[0].material.fiber().unwrap().eta, 1.6);
         // The written scene reads back equal.

@@ -183,7 +183,8 @@ fn half_energies(m: &Marschner, sin_theta_i: f32) -> HalfEnergies {
         let phi = (j as f32 + 0.5) * dphi;
         let v = Vec3::new(-sin_theta_i, cos_i * phi.cos(), cos_i * phi.sin());
         let a = hair_angles(t, l, v);
-        let unit = |beta: f32, shift: f32| hair_gaussian(beta, a.sin_theta_i + a.sin_theta_o - shift);
+        let unit =
+            |beta: f32, shift: f32| hair_gaussian(beta, a.sin_theta_i + a.sin_theta_o - shift);
         let shifts = m.shifts();
         e.azimuthal[0] += Vec3::splat(marschner_r(m, &a) / unit(m.beta.x, shifts.x)) * dphi;
         e.azimuthal[1] += marschner_tt(m, &a) / unit(m.beta.y, shifts.y) * dphi;
@@ -260,7 +261,8 @@ impl DualScattering {
             let sigma_b = per(&|af, ab| backscatter_deviation(af, ab, beta_f, beta_b));
             ds.a_f[k] = a_f.extend(a.beta_f2);
             ds.a_b[k] = per(&backscatter_attenuation).extend(0.0);
-            ds.delta_b[k] = per(&|af, ab| backscatter_shift(af, ab, a.alpha_f, a.alpha_b)).extend(0.0);
+            ds.delta_b[k] =
+                per(&|af, ab| backscatter_shift(af, ab, a.alpha_f, a.alpha_b)).extend(0.0);
             ds.sigma_b2[k] = (sigma_b * sigma_b).extend(0.0);
             for p in 0..3 {
                 azimuthal[p] += a.azimuthal[p];
@@ -275,7 +277,8 @@ impl DualScattering {
 
     /// The table read at `sin θi` (linear between entries, clamped at the ends).
     pub fn at(&self, sin_theta_i: f32) -> DualScatteringAt {
-        let x = ((sin_theta_i + 1.0) * 0.5 * DS_TABLE as f32 - 0.5).clamp(0.0, (DS_TABLE - 1) as f32);
+        let x =
+            ((sin_theta_i + 1.0) * 0.5 * DS_TABLE as f32 - 0.5).clamp(0.0, (DS_TABLE - 1) as f32);
         let i = (x.floor() as usize).min(DS_TABLE - 1);
         let j = (i + 1).min(DS_TABLE - 1);
         let f = x - i as f32;
@@ -308,7 +311,12 @@ fn gaussian3(var: Vec3, x: Vec3) -> Vec3 {
 }
 
 /// The global single scattering `S_G` of light spread by `spread2 = σ̄f²` (see the module docs).
-fn spread_single_scattering(m: &Marschner, ds: &DualScattering, a: &HairAngles, spread2: f32) -> Vec3 {
+fn spread_single_scattering(
+    m: &Marschner,
+    ds: &DualScattering,
+    a: &HairAngles,
+    spread2: f32,
+) -> Vec3 {
     let sum = a.sin_theta_i + a.sin_theta_o;
     let shifts = m.shifts();
     let g = |beta: f32, shift: f32| hair_gaussian((beta * beta + spread2).sqrt(), sum - shift);

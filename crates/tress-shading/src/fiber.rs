@@ -186,7 +186,10 @@ mod tests {
             (-s.y.sqrt() * d).exp(),
             (-s.z.sqrt() * d).exp(),
         );
-        assert!((c - Vec3::new(0.8, 0.5, 0.2)).abs().max_element() < 1e-5, "{c}");
+        assert!(
+            (c - Vec3::new(0.8, 0.5, 0.2)).abs().max_element() < 1e-5,
+            "{c}"
+        );
     }
 
     #[test]

@@ -112,8 +112,8 @@ pub fn hair_angles(t: Vec3, l: Vec3, v: Vec3) -> HairAngles {
     let cos_theta_d = (0.5 + 0.5 * cos_2theta_d).max(0.0).sqrt();
     let lp = l - sin_theta_i * t;
     let vp = v - sin_theta_o * t;
-    let cos_phi = (lp.dot(vp) / (lp.length_squared() * vp.length_squared() + 1e-4).sqrt())
-        .clamp(-1.0, 1.0);
+    let cos_phi =
+        (lp.dot(vp) / (lp.length_squared() * vp.length_squared() + 1e-4).sqrt()).clamp(-1.0, 1.0);
     HairAngles {
         sin_theta_i,
         sin_theta_o,

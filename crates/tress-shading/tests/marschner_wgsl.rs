@@ -9,7 +9,10 @@ const MARSCHNER_WGSL: &str = include_str!("../../tress-render/src/shaders/common
 
 fn module() -> naga::Module {
     naga::front::wgsl::parse_str(MARSCHNER_WGSL).unwrap_or_else(|e| {
-        panic!("marschner.wgsl does not parse:\n{}", e.emit_to_string(MARSCHNER_WGSL))
+        panic!(
+            "marschner.wgsl does not parse:\n{}",
+            e.emit_to_string(MARSCHNER_WGSL)
+        )
     })
 }
 
@@ -54,7 +57,9 @@ const STRUCTS: &[(&str, &[&str], u32)] = &[
     ),
     (
         "DualScattering",
-        &["a_f", "a_b", "delta_b", "sigma_b2", "params", "tt_avg", "trt_avg"],
+        &[
+            "a_f", "a_b", "delta_b", "sigma_b2", "params", "tt_avg", "trt_avg",
+        ],
         1072,
     ),
     (
@@ -68,21 +73,37 @@ const STRUCTS: &[(&str, &[&str], u32)] = &[
 fn marschner_wgsl_parses_and_validates() {
     let module = module();
     if let Err(e) = Validator::new(ValidationFlags::all(), Capabilities::all()).validate(&module) {
-        panic!("marschner.wgsl does not validate:\n{}", e.emit_to_string(MARSCHNER_WGSL));
+        panic!(
+            "marschner.wgsl does not validate:\n{}",
+            e.emit_to_string(MARSCHNER_WGSL)
+        );
     }
-    assert!(module.global_variables.is_empty(), "marschner.wgsl must not declare bindings");
-    assert!(module.entry_points.is_empty(), "marschner.wgsl is a library of functions");
+    assert!(
+        module.global_variables.is_empty(),
+        "marschner.wgsl must not declare bindings"
+    );
+    assert!(
+        module.entry_points.is_empty(),
+        "marschner.wgsl is a library of functions"
+    );
 }
 
 #[test]
 fn functions_match_the_cpu_twins() {
     let module = module();
     for (name, args) in FUNCTIONS {
-        let Some((_, f)) = module.functions.iter().find(|(_, f)| f.name.as_deref() == Some(name))
+        let Some((_, f)) = module
+            .functions
+            .iter()
+            .find(|(_, f)| f.name.as_deref() == Some(name))
         else {
             panic!("marschner.wgsl lacks fn {name}");
         };
-        let got: Vec<_> = f.arguments.iter().map(|a| a.name.as_deref().unwrap_or("")).collect();
+        let got: Vec<_> = f
+            .arguments
+            .iter()
+            .map(|a| a.name.as_deref().unwrap_or(""))
+            .collect();
         assert_eq!(got, *args, "arguments of fn {name}");
     }
     for (_, f) in module.functions.iter() {
@@ -99,10 +120,15 @@ fn structs_match_the_cpu_twins() {
     let module = module();
     for (name, fields, size) in STRUCTS {
         let found = module.types.iter().find_map(|(_, ty)| match &ty.inner {
-            naga::TypeInner::Struct { members, span } if ty.name.as_deref() == Some(name) => Some((
-                members.iter().map(|m| m.name.clone().unwrap_or_default()).collect::<Vec<_>>(),
-                *span,
-            )),
+            naga::TypeInner::Struct { members, span } if ty.name.as_deref() == Some(name) => {
+                Some((
+                    members
+                        .iter()
+                        .map(|m| m.name.clone().unwrap_or_default())
+                        .collect::<Vec<_>>(),
+                    *span,
+                ))
+            }
             _ => None,
         });
         let Some((got, span)) = found else {
@@ -120,7 +146,12 @@ fn cpu_structs_have_the_same_fields() {
     use glam::{Vec3, Vec4};
     use tress_shading::dual_scattering::{DS_TABLE, DualScattering, DualScatteringAt};
     use tress_shading::marschner::{HairAngles, Marschner};
-    let _ = Marschner { sigma_a: Vec3::ZERO, eta: 1.55, beta: Vec3::ONE, alpha: 0.0 };
+    let _ = Marschner {
+        sigma_a: Vec3::ZERO,
+        eta: 1.55,
+        beta: Vec3::ONE,
+        alpha: 0.0,
+    };
     let _ = HairAngles {
         sin_theta_i: 0.0,
         sin_theta_o: 0.0,

@@ -10,7 +10,11 @@ fn lobes(eumelanin: f32) -> Marschner {
 }
 
 fn dir(theta: f32, phi: f32) -> Vec3 {
-    Vec3::new(theta.sin(), theta.cos() * phi.cos(), theta.cos() * phi.sin())
+    Vec3::new(
+        theta.sin(),
+        theta.cos() * phi.cos(),
+        theta.cos() * phi.sin(),
+    )
 }
 
 #[test]
@@ -48,7 +52,9 @@ fn averages_are_fractions_of_the_light() {
             let h = angle_averages(&m, table_sin(k));
             assert!((h.a_f + h.a_b).max_element() <= 1.01, "{h:?}");
         }
-        assert!(ds.params.x > 0.0 && ds.params.y == DENSITY_FORWARD && ds.params.z == DENSITY_BACKWARD);
+        assert!(
+            ds.params.x > 0.0 && ds.params.y == DENSITY_FORWARD && ds.params.z == DENSITY_BACKWARD
+        );
     }
 }
 
@@ -64,7 +70,10 @@ fn table_reads_its_entries_and_interpolates_the_integrals() {
     for deg in [-55.0f32, -33.0, -12.0, 5.0, 27.0, 48.0] {
         let s = deg.to_radians().sin();
         let (table, exact) = (ds.at(s).a_f, angle_averages(&m, s).a_f);
-        assert!(((table - exact) / exact).abs().max_element() < 0.03, "{deg}°: {table} vs {exact}");
+        assert!(
+            ((table - exact) / exact).abs().max_element() < 0.03,
+            "{deg}°: {table} vs {exact}"
+        );
     }
     // Beyond the outer entries the table is clamped.
     assert_eq!(ds.at(1.0), ds.at(table_sin(DS_TABLE - 1)));
@@ -96,7 +105,10 @@ fn unshadowed_light_adds_only_local_backscatter() {
     let m = lobes(1.3);
     let ds = DualScattering::from_marschner(&m);
     let (t, c) = (Vec3::X, Vec3::new(1.0, 0.9, 0.8));
-    for (l, v) in [(dir(0.3, 0.0), dir(-0.2, 0.4)), (dir(-0.5, 1.0), dir(0.4, 3.0))] {
+    for (l, v) in [
+        (dir(0.3, 0.0), dir(-0.2, 0.4)),
+        (dir(-0.5, 1.0), dir(0.4, 3.0)),
+    ] {
         let single = marschner_lighting(&m, t, l, c, v);
         let full = dual_scattering_lighting(&m, &ds, t, l, c, v, 0.0, 1.0);
         let extra = full - single;
@@ -124,7 +136,10 @@ fn light_fades_with_the_strands_it_crosses() {
     assert!(last.min_element() > 0.0);
     for n in [2.0f32, 4.0, 8.0, 16.0, 32.0] {
         let now = at(n);
-        assert!(now.max_element() < last.max_element(), "n {n}: {now} vs {last}");
+        assert!(
+            now.max_element() < last.max_element(),
+            "n {n}: {now} vs {last}"
+        );
         last = now;
     }
     assert!(at(400.0).max_element() < 1e-6 * at(1.0).max_element());
@@ -163,6 +178,9 @@ fn backscatter_lobe_holds_a_b() {
         mass += gaussian3(at.sigma_b2, Vec3::splat(x) - at.delta_b) * (2.0 / k as f32);
     }
     let want = at.a_b * mass;
-    assert!((energy - want).abs().max_element() < 0.01 * want.max_element(), "{energy} vs {want}");
+    assert!(
+        (energy - want).abs().max_element() < 0.01 * want.max_element(),
+        "{energy} vs {want}"
+    );
     assert!(mass.min_element() > 0.5 && mass.max_element() < 1.0);
 }

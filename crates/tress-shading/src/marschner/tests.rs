@@ -5,7 +5,11 @@ use crate::test_util::sphere;
 /// A direction at longitudinal angle `theta` (from the normal plane of `t = x`) and azimuth `phi`
 /// (from `+y` towards `+z`).
 fn dir(theta: f32, phi: f32) -> Vec3 {
-    Vec3::new(theta.sin(), theta.cos() * phi.cos(), theta.cos() * phi.sin())
+    Vec3::new(
+        theta.sin(),
+        theta.cos() * phi.cos(),
+        theta.cos() * phi.sin(),
+    )
 }
 
 /// `∫ S(l, v) dω_v` over the sphere by the midpoint rule in `(sin θo, φ)`, where `dω = d(sin θ)
@@ -175,10 +179,16 @@ fn longitudinal_peaks_shift_by_the_cuticle_tilt() {
             .map(|k| k as f32 * 0.0025)
             .max_by(|&x, &y| lobe(p, x).total_cmp(&lobe(p, y)))
             .unwrap();
-        assert!((best - shift).abs() < 0.003, "lobe {p}: peak {best}, shift {shift}");
+        assert!(
+            (best - shift).abs() < 0.003,
+            "lobe {p}: peak {best}, shift {shift}"
+        );
         let d = 0.07;
         let (lo, hi) = (lobe(p, shift - d), lobe(p, shift + d));
-        assert!((lo - hi).abs() <= 1e-4 * lo.max(hi), "lobe {p}: {lo} vs {hi}");
+        assert!(
+            (lo - hi).abs() <= 1e-4 * lo.max(hi),
+            "lobe {p}: {lo} vs {hi}"
+        );
     }
     assert_eq!(m.shifts(), Vec3::new(2.0 * alpha, -alpha, -4.0 * alpha));
 }
@@ -224,5 +234,10 @@ fn lighting_is_pi_times_s_times_the_light() {
     let (t, l, v) = (Vec3::X, dir(0.3, 0.2), dir(-0.2, 1.0));
     let c = Vec3::new(1.0, 0.5, 0.25);
     let want = std::f32::consts::PI * marschner(&m, t, l, v) * c;
-    assert!((marschner_lighting(&m, t, l, c, v) - want).abs().max_element() < 1e-7);
+    assert!(
+        (marschner_lighting(&m, t, l, c, v) - want)
+            .abs()
+            .max_element()
+            < 1e-7
+    );
 }

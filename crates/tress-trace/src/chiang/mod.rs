@@ -79,7 +79,11 @@ pub struct BsdfSample {
 /// `(sin θ, cos θ, φ)` of a local direction.
 fn angles(w: Vec3) -> (f32, f32, f32) {
     let sin_theta = w.x.clamp(-1.0, 1.0);
-    (sin_theta, safe_sqrt(1.0 - sin_theta * sin_theta), w.z.atan2(w.y))
+    (
+        sin_theta,
+        safe_sqrt(1.0 - sin_theta * sin_theta),
+        w.z.atan2(w.y),
+    )
 }
 
 impl ChiangBsdf {
@@ -92,8 +96,8 @@ impl ChiangBsdf {
         let mut cos_2k_alpha = [safe_sqrt(1.0 - sin_2k_alpha[0] * sin_2k_alpha[0]), 0.0, 0.0];
         for i in 1..3 {
             sin_2k_alpha[i] = 2.0 * cos_2k_alpha[i - 1] * sin_2k_alpha[i - 1];
-            cos_2k_alpha[i] =
-                cos_2k_alpha[i - 1] * cos_2k_alpha[i - 1] - sin_2k_alpha[i - 1] * sin_2k_alpha[i - 1];
+            cos_2k_alpha[i] = cos_2k_alpha[i - 1] * cos_2k_alpha[i - 1]
+                - sin_2k_alpha[i - 1] * sin_2k_alpha[i - 1];
         }
         ChiangBsdf {
             h,
@@ -132,7 +136,8 @@ impl ChiangBsdf {
     fn transmission(&self, sin_theta_o: f32, cos_theta_o: f32) -> (f32, [f32; 3]) {
         let sin_theta_t = sin_theta_o / self.eta;
         let cos_theta_t = safe_sqrt(1.0 - sin_theta_t * sin_theta_t);
-        let eta_p = safe_sqrt(self.eta * self.eta - sin_theta_o * sin_theta_o) / cos_theta_o.max(1e-6);
+        let eta_p =
+            safe_sqrt(self.eta * self.eta - sin_theta_o * sin_theta_o) / cos_theta_o.max(1e-6);
         let sin_gamma_t = self.h / eta_p;
         let cos_gamma_t = safe_sqrt(1.0 - sin_gamma_t * sin_gamma_t);
         let length = 2.0 * cos_gamma_t / cos_theta_t.max(1e-6);
@@ -186,7 +191,11 @@ impl ChiangBsdf {
         let (sin_o, cos_o, _) = angles(wo);
         let (ap, gamma_t) = self.lobes(sin_o, cos_o);
         let f = self.sum_lobes(wo, wi, |p| Vec3::from_array(ap[p]), Vec3::ZERO, gamma_t);
-        if f.is_finite() { f.max(Vec3::ZERO) } else { Vec3::ZERO }
+        if f.is_finite() {
+            f.max(Vec3::ZERO)
+        } else {
+            Vec3::ZERO
+        }
     }
 
     /// The density per solid angle with which [`ChiangBsdf::sample`] returns `wi`.
@@ -215,7 +224,11 @@ impl ChiangBsdf {
             }
             u -= q;
         }
-        let u = if pdf[p] > 0.0 { (u / pdf[p]).clamp(0.0, 1.0 - f32::EPSILON) } else { 0.0 };
+        let u = if pdf[p] > 0.0 {
+            (u / pdf[p]).clamp(0.0, 1.0 - f32::EPSILON)
+        } else {
+            0.0
+        };
         // M_p: a vMF direction about the specular cone of the tilted θo.
         let (sin_op, cos_op) = self.tilted(p, sin_o, cos_o);
         let v = self.v[p];

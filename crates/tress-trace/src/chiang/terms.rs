@@ -52,7 +52,13 @@ pub(crate) fn log_i0(x: f32) -> f32 {
 ///
 /// normalized so `∫ M_p cos θi dθi = 1`. For `v ≤ 0.1` it is evaluated in log space with
 /// [`log_i0`] (`1 / (2v sinh(1/v)) → exp(-1/v) / v`); both branches agree at `v = 0.1`.
-pub(crate) fn mp(cos_theta_i: f32, cos_theta_o: f32, sin_theta_i: f32, sin_theta_o: f32, v: f32) -> f32 {
+pub(crate) fn mp(
+    cos_theta_i: f32,
+    cos_theta_o: f32,
+    sin_theta_i: f32,
+    sin_theta_o: f32,
+    v: f32,
+) -> f32 {
     let a = cos_theta_i * cos_theta_o / v;
     let b = sin_theta_i * sin_theta_o / v;
     if v <= 0.1 {

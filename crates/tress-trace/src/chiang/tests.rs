@@ -127,7 +127,10 @@ fn white_furnace_integrates_to_one() {
                 }
                 let f = fiber(beta_m, beta_n, Vec3::ZERO, alpha);
                 let e = albedo(&f, wo, 8, 160, 720);
-                assert!((e[0] - 1.0).abs() < 0.02, "βm {beta_m} βn {beta_n} α {alpha}: {e:?}");
+                assert!(
+                    (e[0] - 1.0).abs() < 0.02,
+                    "βm {beta_m} βn {beta_n} α {alpha}: {e:?}"
+                );
             }
         }
     }
@@ -146,7 +149,10 @@ fn every_sample_of_a_white_fibre_weighs_one() {
                 let wo = rng.on_sphere();
                 if let Some(s) = bsdf.sample(wo, rng.f32(), rng.f32(), rng.f32()) {
                     let w = s.f / s.pdf;
-                    assert!((w - Vec3::ONE).abs().max_element() < 2e-3, "βm {beta_m} βn {beta_n}: {w}");
+                    assert!(
+                        (w - Vec3::ONE).abs().max_element() < 2e-3,
+                        "βm {beta_m} βn {beta_n}: {w}"
+                    );
                     assert!((s.wi.length() - 1.0).abs() < 1e-4);
                 }
             }
@@ -158,8 +164,17 @@ fn every_sample_of_a_white_fibre_weighs_one() {
 fn energy_never_exceeds_one() {
     let mut rng = Rng::new(3);
     for _ in 0..12 {
-        let sigma_a = Vec3::new(rng.range(0.0, 5.0), rng.range(0.0, 5.0), rng.range(0.0, 5.0));
-        let f = fiber(rng.range(0.1, 1.0), rng.range(0.1, 1.0), sigma_a, rng.range(-5.0, 5.0));
+        let sigma_a = Vec3::new(
+            rng.range(0.0, 5.0),
+            rng.range(0.0, 5.0),
+            rng.range(0.0, 5.0),
+        );
+        let f = fiber(
+            rng.range(0.1, 1.0),
+            rng.range(0.1, 1.0),
+            sigma_a,
+            rng.range(-5.0, 5.0),
+        );
         let wo = rng.on_sphere();
         if wo.x.abs() > 0.95 {
             continue;
@@ -182,15 +197,26 @@ fn reciprocal_where_the_model_is() {
         let sign = if rng.f32() < 0.5 { 1.0 } else { -1.0 };
         let wo = local(s, rng.range(-PI, PI));
         let wi = local(sign * s, rng.range(-PI, PI));
-        let f = fiber(rng.range(0.2, 0.9), rng.range(0.2, 0.9), Vec3::splat(rng.range(0.0, 3.0)), 0.0);
+        let f = fiber(
+            rng.range(0.2, 0.9),
+            rng.range(0.2, 0.9),
+            Vec3::splat(rng.range(0.0, 3.0)),
+            0.0,
+        );
         let b = ChiangBsdf::new(&f, 0.0);
         let (x, y) = (b.eval(wo, wi), b.eval(wi, wo));
-        assert!((x - y).abs().max_element() <= 1e-4 * x.max_element().max(1e-3), "{x} vs {y}");
+        assert!(
+            (x - y).abs().max_element() <= 1e-4 * x.max_element().max(1e-3),
+            "{x} vs {y}"
+        );
         let r_only = fiber(f.beta_m, f.beta_n, Vec3::splat(1e4), 0.0);
         let h = rng.range(-1.0, 1.0);
         let x = ChiangBsdf::new(&r_only, h).eval(wo, wi);
         let y = ChiangBsdf::new(&r_only, -h).eval(wi, wo);
-        assert!((x - y).abs().max_element() <= 1e-4 * x.max_element().max(1e-3), "h {h}: {x} vs {y}");
+        assert!(
+            (x - y).abs().max_element() <= 1e-4 * x.max_element().max(1e-3),
+            "h {h}: {x} vs {y}"
+        );
     }
 }
 
@@ -290,10 +316,31 @@ fn sampled_directions_follow_the_evaluated_pdf() {
     const SUB: usize = 12;
     const SAMPLES: usize = 200_000;
     let cases = [
-        (0.3f32, 0.3f32, sigma_a_from_melanin(1.3, 0.2), 2.0f32, 0.3f32, Vec3::new(0.2, 0.9, 0.3)),
+        (
+            0.3f32,
+            0.3f32,
+            sigma_a_from_melanin(1.3, 0.2),
+            2.0f32,
+            0.3f32,
+            Vec3::new(0.2, 0.9, 0.3),
+        ),
         (0.6, 0.5, Vec3::ZERO, 3.0, -0.7, Vec3::new(-0.5, 0.4, -0.7)),
-        (0.2, 0.8, sigma_a_from_melanin(0.3, 0.0), -2.0, 0.95, Vec3::new(0.7, -0.1, 0.7)),
-        (0.9, 0.2, Vec3::new(0.1, 0.5, 2.0), 1.0, 0.0, Vec3::new(0.0, 0.3, -0.95)),
+        (
+            0.2,
+            0.8,
+            sigma_a_from_melanin(0.3, 0.0),
+            -2.0,
+            0.95,
+            Vec3::new(0.7, -0.1, 0.7),
+        ),
+        (
+            0.9,
+            0.2,
+            Vec3::new(0.1, 0.5, 2.0),
+            1.0,
+            0.0,
+            Vec3::new(0.0, 0.3, -0.95),
+        ),
     ];
     let mut rng = Rng::new(17);
     for (beta_m, beta_n, sigma_a, alpha, h, wo) in cases {
@@ -341,7 +388,10 @@ fn sampled_directions_follow_the_evaluated_pdf() {
         }
         let k = (dof - 1) as f64;
         let limit = chi2_quantile(k, 3.719);
-        assert!(chi2 < limit, "βm {beta_m} βn {beta_n} h {h}: χ² {chi2:.1} > {limit:.1} ({k} dof)");
+        assert!(
+            chi2 < limit,
+            "βm {beta_m} βn {beta_n} h {h}: χ² {chi2:.1} > {limit:.1} ({k} dof)"
+        );
     }
 }
 
@@ -358,7 +408,10 @@ fn absorption_only_takes_light_away() {
             let wi = local(-0.95 + 0.1 * i as f32, TAU * j as f32 / 40.0);
             let (r, b, c) = (opaque.eval(wo, wi), brown.eval(wo, wi), clear.eval(wo, wi));
             let tol = 1e-6 * c.max_element();
-            assert!((r - b).max_element() <= tol && (b - c).max_element() <= tol, "{r} {b} {c}");
+            assert!(
+                (r - b).max_element() <= tol && (b - c).max_element() <= tol,
+                "{r} {b} {c}"
+            );
         }
     }
     let tt = brown.eval(wo, local(-0.1, PI - 0.3));
@@ -390,8 +443,14 @@ fn karis_and_chiang_tilt_the_r_lobe_the_same_way() {
         let (c0, k0) = at(0.0);
         let (c3, k3) = at(3.0);
         let (dc, dk) = (c3 - c0, k3 - k0);
-        assert!(dc > 0.0 && dk > 0.0, "θo {theta_o}: chiang {dc}, karis {dk}");
-        assert!((dc - dk).abs() < 0.3 * dk, "θo {theta_o}: chiang {dc}, karis {dk}");
+        assert!(
+            dc > 0.0 && dk > 0.0,
+            "θo {theta_o}: chiang {dc}, karis {dk}"
+        );
+        assert!(
+            (dc - dk).abs() < 0.3 * dk,
+            "θo {theta_o}: chiang {dc}, karis {dk}"
+        );
         // Untilted, both peak on the specular cone sin θi = -sin θo.
         assert!((c0 + theta_o.sin()).abs() < 0.02 && (k0 + theta_o.sin()).abs() < 0.02);
     }

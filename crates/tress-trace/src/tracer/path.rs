@@ -35,7 +35,11 @@ const ROULETTE_DEPTH: u32 = 3;
 
 impl Tracer {
     /// The nearest opaque surface along `ray` that `origin` does not skip.
-    pub(super) fn nearest_opaque(&self, ray: &Ray, origin: Option<Origin>) -> Option<(f32, HitKind)> {
+    pub(super) fn nearest_opaque(
+        &self,
+        ray: &Ray,
+        origin: Option<Origin>,
+    ) -> Option<(f32, HitKind)> {
         let p = &self.prims;
         p.bvh.nearest(ray, |pos, ray| {
             let r = p.refs[pos];
@@ -124,9 +128,17 @@ impl Tracer {
                     let geo = if geo.dot(wo) < 0.0 { -geo } else { geo };
                     let [n0, n1, n2] = tri.normals;
                     let interp = (n0 * (1.0 - u - v) + n1 * u + n2 * v).normalize_or(geo);
-                    let n = if interp.dot(wo) < 0.0 { -interp } else { interp };
+                    let n = if interp.dot(wo) < 0.0 {
+                        -interp
+                    } else {
+                        interp
+                    };
                     let eps = 1e-4 * (1.0 + p.abs().max_element());
-                    (p + geo * eps, Origin::Triangle(id), Surface::Head { n, geo })
+                    (
+                        p + geo * eps,
+                        Origin::Triangle(id),
+                        Surface::Head { n, geo },
+                    )
                 }
             };
             // Next-event estimation: every directional light, one shadow ray each.

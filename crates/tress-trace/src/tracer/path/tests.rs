@@ -15,7 +15,10 @@ use crate::{SceneGeometry, TraceSettings};
 
 /// The test scene of the tracer's tests with physically based strands, `sets` applied.
 fn pb_scene(size: u32, extra: &str, sets: &[&str]) -> tress_scene::Scene {
-    let mut sc = scene(size, &format!("{extra}\n[strands]\nshading = \"marschner\"\n"));
+    let mut sc = scene(
+        size,
+        &format!("{extra}\n[strands]\nshading = \"marschner\"\n"),
+    );
     sc.apply_overrides(sets).expect("overrides");
     sc
 }
@@ -36,7 +39,10 @@ fn clump() -> Vec<(Vec3, Vec3)> {
             let a = k as f32 * 0.45;
             let z = -0.3 * k as f32;
             let d = Vec3::new(a.cos(), a.sin(), 0.2);
-            (Vec3::new(0.0, 0.0, z) - 2.5 * d, Vec3::new(0.0, 0.0, z) + 2.5 * d)
+            (
+                Vec3::new(0.0, 0.0, z) - 2.5 * d,
+                Vec3::new(0.0, 0.0, z) + 2.5 * d,
+            )
         })
         .collect()
 }
@@ -45,7 +51,14 @@ fn clump() -> Vec<(Vec3, Vec3)> {
 fn white_fibres_in_a_white_furnace_return_the_sky() {
     // σa = 0 fibres under a uniform sky of radiance 1 (and a background of 1): nothing is
     // absorbed, so every pixel is 1; brown fibres absorb, so they are darker.
-    let white = pb_scene(6, "", &["background=[1.0,1.0,1.0]", "hair.0.material.sigma_a=[0.0,0.0,0.0]"]);
+    let white = pb_scene(
+        6,
+        "",
+        &[
+            "background=[1.0,1.0,1.0]",
+            "hair.0.material.sigma_a=[0.0,0.0,0.0]",
+        ],
+    );
     let s = settings(64, 1024, 1.0);
     let tr = tracer(&white, Some(strands(&clump(), 0.6)), None, &s);
     let img = tr.render(&|_| {}).image;
@@ -56,7 +69,10 @@ fn white_fibres_in_a_white_furnace_return_the_sky() {
     let tr = tracer(&brown, Some(strands(&clump(), 0.6)), None, &s);
     let dark = tr.render(&|_| {}).image;
     let centre = dark.get(3, 3);
-    assert!(centre.max_element() < 0.9 && centre.x > centre.z, "{centre}");
+    assert!(
+        centre.max_element() < 0.9 && centre.x > centre.z,
+        "{centre}"
+    );
 }
 
 #[test]
@@ -70,7 +86,12 @@ fn one_bounce_is_the_bsdf_at_the_hit_offset_times_the_light() {
         &[],
     );
     let pair = [(Vec3::new(-3.0, 0.0, 0.0), Vec3::new(3.0, 0.0, 0.0))];
-    let tr = tracer(&sc, Some(strands(&pair, 2.0 * r)), None, &settings(1, 0, 0.0));
+    let tr = tracer(
+        &sc,
+        Some(strands(&pair, 2.0 * r)),
+        None,
+        &settings(1, 0, 0.0),
+    );
     let fiber = sc.hair[0].material.fiber().unwrap();
     let l = Vec3::new(0.3, 0.5, 0.8).normalize();
     let l_local = Vec3::new(l.x, l.z, -l.y);
@@ -80,7 +101,10 @@ fn one_bounce_is_the_bsdf_at_the_hit_offset_times_the_light() {
         let got = tr.path_radiance(&ray, &mut Rng::new(1), &mut rays);
         let bsdf = ChiangBsdf::new(&fiber, y0 / r);
         let want = bsdf.eval(Vec3::Y, l_local) * PI * Vec3::new(1.0, 0.8, 0.6);
-        assert!((got - want).abs().max_element() < 1e-4 * want.max_element().max(1e-3), "y0 {y0}: {got} vs {want}");
+        assert!(
+            (got - want).abs().max_element() < 1e-4 * want.max_element().max(1e-3),
+            "y0 {y0}: {got} vs {want}"
+        );
         assert_eq!(rays, 2, "camera ray and one shadow ray");
     }
 }
@@ -97,17 +121,28 @@ fn opaque_fibres_cast_hard_shadows() {
     // From below, so the camera ray meets the lower strand first.
     let ray = Ray::new(Vec3::new(0.0, 0.05, -5.0), Vec3::Z, 0.0, f32::INFINITY);
     let mut rays = 0;
-    assert_eq!(tr.path_radiance(&ray, &mut Rng::new(2), &mut rays), Vec3::ZERO);
+    assert_eq!(
+        tr.path_radiance(&ray, &mut Rng::new(2), &mut rays),
+        Vec3::ZERO
+    );
     // The upper strand, seen from above, is lit.
     let ray = Ray::new(Vec3::new(0.0, 0.05, 8.0), -Vec3::Z, 0.0, f32::INFINITY);
-    assert!(tr.path_radiance(&ray, &mut Rng::new(2), &mut rays).max_element() > 0.0);
+    assert!(
+        tr.path_radiance(&ray, &mut Rng::new(2), &mut rays)
+            .max_element()
+            > 0.0
+    );
 }
 
 #[test]
 fn the_head_is_lambert_in_the_gpu_head_passs_units() {
     // A quad facing a light along its normal returns HEAD_COLOR · color · intensity, what the
     // Kajiya-Kay tracer and the GPU head pass draw.
-    let sc = pb_scene(4, "[[light]]\ndirection = [0.0, 0.0, 1.0]\ncolor = [1.0, 1.0, 1.0]\nintensity = 2.0", &[]);
+    let sc = pb_scene(
+        4,
+        "[[light]]\ndirection = [0.0, 0.0, 1.0]\ncolor = [1.0, 1.0, 1.0]\nintensity = 2.0",
+        &[],
+    );
     let tr: Tracer = Tracer::new(
         &sc,
         &SceneGeometry {
@@ -127,7 +162,10 @@ fn bounces_add_the_light_that_crosses_blond_hair() {
     let sc = pb_scene(
         8,
         "[[light]]\ndirection = [0.2, 0.9, 0.4]",
-        &["hair.0.material.eumelanin=0.2", "hair.0.material.pheomelanin=0.05"],
+        &[
+            "hair.0.material.eumelanin=0.2",
+            "hair.0.material.pheomelanin=0.05",
+        ],
     );
     let hair = || Some(strands(&clump(), 0.6));
     let sum = |img: &crate::Image| img.pixels.iter().map(|p| p.x).sum::<f32>();
