@@ -36,14 +36,14 @@
 #![doc = concat!("```toml\n", include_str!("../doc/hair.toml"), "```")]
 
 mod error;
+mod material;
 mod overrides;
 mod parts;
 mod scene;
 
 pub use error::SceneError;
-pub use parts::{
-    Camera, FollowSpec, GeneratorSpec, HairSpec, HeadSpec, Light, Material, Output, Transform,
-};
+pub use material::{DEFAULT_EUMELANIN, DEFAULT_PHEOMELANIN, Material};
+pub use parts::{Camera, FollowSpec, GeneratorSpec, HairSpec, HeadSpec, Light, Output, Transform};
 pub use scene::{HeadSource, Scene, TECHNIQUES};
 
 #[cfg(test)]

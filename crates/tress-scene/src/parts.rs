@@ -8,9 +8,9 @@ use glam::{Affine3A, Mat4, Quat, Vec3};
 use serde::{Deserialize, Serialize};
 use tress_hair::generate::{Style, StyleParams};
 use tress_hair::{FollowMode, FollowParams, FollowRadius};
-use tress_shading::{HairLighting, KajiyaKay};
 
 use crate::SceneError;
+use crate::material::Material;
 
 /// `[camera]`: a perspective camera.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -500,90 +500,6 @@ mod follow_radius {
     }
 }
 
-/// `[hair.material]`: shading parameters of one hair entry, the constants of Scheuermann's
-/// dual-highlight model (see [`tress_shading::HairLighting`]), whose defaults they share.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct Material {
-    /// Hair color (linear RGB): Scheuermann's base texture, Kajiya-Kay's diffuse color.
-    pub base_color: Vec3,
-    /// Color of the primary highlight.
-    pub primary_color: Vec3,
-    /// Exponent of the primary highlight (> 0).
-    pub primary_exponent: f32,
-    /// Tangent shift of the primary highlight (negative: towards the tip).
-    pub primary_shift: f32,
-    /// Color of the secondary highlight.
-    pub secondary_color: Vec3,
-    /// Exponent of the secondary highlight (> 0).
-    pub secondary_exponent: f32,
-    /// Tangent shift of the secondary highlight (positive: towards the root).
-    pub secondary_shift: f32,
-    /// Strand diameter (world units) used by the renderer for every strand; absent: the asset's
-    /// own per-vertex thickness.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub thickness: Option<f32>,
-}
-
-impl Default for Material {
-    /// Dark brown hair (`[0.3, 0.2, 0.12]`) with [`HairLighting::default`]'s highlights.
-    fn default() -> Self {
-        let h = HairLighting::default();
-        Material {
-            base_color: Vec3::new(0.30, 0.20, 0.12),
-            primary_color: h.primary_color,
-            primary_exponent: h.primary_exponent,
-            primary_shift: h.primary_shift,
-            secondary_color: h.secondary_color,
-            secondary_exponent: h.secondary_exponent,
-            secondary_shift: h.secondary_shift,
-            thickness: None,
-        }
-    }
-}
-
-impl Material {
-    /// Scheuermann's constants (the base color is a per-fragment input, `HairSample::base_color`;
-    /// the diffuse color is white).
-    pub fn hair_lighting(&self) -> HairLighting {
-        HairLighting {
-            diffuse_color: Vec3::ONE,
-            primary_exponent: self.primary_exponent,
-            primary_color: self.primary_color,
-            primary_shift: self.primary_shift,
-            secondary_color: self.secondary_color,
-            secondary_exponent: self.secondary_exponent,
-            secondary_shift: self.secondary_shift,
-        }
-    }
-
-    /// Kajiya-Kay parameters: the base color as diffuse, the primary highlight as specular.
-    pub fn kajiya_kay(&self) -> KajiyaKay {
-        KajiyaKay {
-            diffuse: self.base_color,
-            specular: self.primary_color,
-            exponent: self.primary_exponent,
-        }
-    }
-
-    fn validate(&self, key: &str) -> Result<(), SceneError> {
-        color(&format!("{key}.base_color"), self.base_color)?;
-        color(&format!("{key}.primary_color"), self.primary_color)?;
-        color(&format!("{key}.secondary_color"), self.secondary_color)?;
-        positive(&format!("{key}.primary_exponent"), self.primary_exponent)?;
-        positive(
-            &format!("{key}.secondary_exponent"),
-            self.secondary_exponent,
-        )?;
-        finite(&format!("{key}.primary_shift"), self.primary_shift)?;
-        finite(&format!("{key}.secondary_shift"), self.secondary_shift)?;
-        if let Some(t) = self.thickness {
-            positive(&format!("{key}.thickness"), t)?;
-        }
-        Ok(())
-    }
-}
-
 /// `[head]`: the head mesh drawn under the hair.
 ///
 /// - nothing given: the generated ellipsoid head;
@@ -709,7 +625,7 @@ fn non_negative(key: &str, v: f32) -> Result<(), SceneError> {
     }
 }
 
-fn positive(key: &str, v: f32) -> Result<(), SceneError> {
+pub(crate) fn positive(key: &str, v: f32) -> Result<(), SceneError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {

@@ -62,6 +62,23 @@
 //! | [`fake_transparency_alpha`]`(strands: f32, iso: f32) -> f32` | `fake_transparency_alpha(strands: f32, iso: f32) -> f32` |
 //! | [`lod_factor`]`(distance, near, far: f32) -> f32`, [`dither_threshold`]`(px: UVec2) -> f32` | `lod_factor(distance, near, far: f32) -> f32`, `dither_threshold(px: vec2u) -> f32` |
 //!
+//! Physically based hair (`shading = "marschner"`): the real-time lobes of [`marschner`] (Karis
+//! 2016) and the multiple scattering of [`dual_scattering`] (Zinke et al. 2008), WGSL side in
+//! `shaders/common/marschner.wgsl` (`tests/marschner_wgsl.rs` checks names, arguments and struct
+//! sizes). Their material is a [`fiber::HairFiber`]; [`marschner::Marschner::from_fiber`],
+//! [`dual_scattering::DualScattering::from_marschner`] and the colour conversions of [`fiber`]
+//! are CPU-only (run once per material, their results uploaded):
+//!
+//! | CPU (this crate) | WGSL (`marschner.wgsl`) |
+//! | --- | --- |
+//! | [`marschner::Marschner`] `{ sigma_a: Vec3, eta: f32, beta: Vec3, alpha: f32 }` | `struct Marschner` (32 bytes) |
+//! | [`marschner::HairAngles`] (6 fields), [`marschner::hair_angles`]`(t, l, v: Vec3)` | `struct HairAngles`, `hair_angles(t, l, v: vec3f) -> HairAngles` |
+//! | [`marschner::hair_gaussian`]`(beta, x: f32) -> f32`, [`marschner::fresnel_schlick`]`(eta, cos_theta: f32) -> f32` | `hair_gaussian(beta, x: f32) -> f32`, `fresnel_schlick(eta, cos_theta: f32) -> f32` |
+//! | [`marschner::marschner_r`]`(m, a) -> f32`, [`marschner::marschner_tt`]`(m, a) -> Vec3`, [`marschner::marschner_trt`]`(m, a) -> Vec3` | `marschner_r(m: Marschner, a: HairAngles) -> f32`, `marschner_tt(..) -> vec3f`, `marschner_trt(..) -> vec3f` |
+//! | [`marschner::marschner()`]`(m, t, l, v) -> Vec3`, [`marschner::marschner_lighting`]`(m, t, l, light_color, v) -> Vec3` | `marschner(m, t, l, v) -> vec3f`, `marschner_lighting(m, t, l, light_color, v) -> vec3f` |
+//! | [`dual_scattering::DualScattering`] (16-entry tables), [`dual_scattering::DualScattering::at`]`(sin_theta_i) -> DualScatteringAt` | `struct DualScattering` (1072 bytes), `dual_scattering_at(ds, sin_theta_i: f32) -> DualScatteringAt` |
+//! | [`dual_scattering::dual_scattering_lighting`]`(m, ds, t, l, light_color, v, strands: f32, direct: f32) -> Vec3` | `dual_scattering_lighting(m, ds, t, l, light_color, v, strands: f32, direct: f32) -> vec3f` |
+//!
 //! The CPU voxelizer [`voxelize()`] is the reference of the renderer's voxelize and resolve
 //! passes as a whole (the GPU test compares every voxel).
 //!
@@ -75,7 +92,10 @@
 
 pub mod blend;
 pub mod coverage;
+pub mod dual_scattering;
+pub mod fiber;
 pub mod kajiya_kay;
+pub mod marschner;
 pub mod scheuermann;
 pub mod shadow;
 pub mod shortcut;

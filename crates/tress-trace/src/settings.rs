@@ -125,6 +125,11 @@ pub struct TraceSettings {
     pub width_px: Option<f32>,
     /// Ray-traced shadows from the directional lights (default true).
     pub shadows: bool,
+    /// Physically based shading only (`strands.shading = "marschner"`): the most bounces a path
+    /// makes after the camera ray's hit (`0..=1024`; 0 is direct light only; default 32, enough
+    /// for blond hair, whose paths carry light through tens of fibres; Russian roulette ends
+    /// darker paths early).
+    pub bounces: u32,
 }
 
 impl Default for TraceSettings {
@@ -139,12 +144,13 @@ impl Default for TraceSettings {
             width: StrandWidth::Auto,
             width_px: None,
             shadows: true,
+            bounces: 32,
         }
     }
 }
 
 /// Names accepted by [`TraceSettings::set`].
-pub const SETTING_NAMES: [&str; 9] = [
+pub const SETTING_NAMES: [&str; 10] = [
     "spp",
     "seed",
     "aov",
@@ -154,6 +160,7 @@ pub const SETTING_NAMES: [&str; 9] = [
     "width",
     "width_px",
     "shadows",
+    "bounces",
 ];
 
 impl TraceSettings {
@@ -176,6 +183,9 @@ impl TraceSettings {
         }
         if !(self.ambient >= 0.0 && self.ambient.is_finite()) {
             return bad("ambient", "must be finite and non-negative");
+        }
+        if self.bounces > 1024 {
+            return bad("bounces", "must lie in 0..=1024");
         }
         if let Some(w) = self.width_px
             && !(w > 0.0 && w <= 64.0)
@@ -214,6 +224,9 @@ impl TraceSettings {
             "ambient" => next.ambient = num(value)?,
             "width" => next.width = value.parse()?,
             "width_px" => next.width_px = Some(num(value)?),
+            "bounces" => {
+                next.bounces = u32::try_from(int(value)?).map_err(|_| err("too large".into()))?
+            }
             "shadows" => {
                 next.shadows = value
                     .parse::<bool>()
@@ -254,6 +267,8 @@ mod tests {
         s.set("width", "screen").unwrap();
         s.set("width_px", "2").unwrap();
         s.set("shadows", "false").unwrap();
+        s.set("bounces", "8").unwrap();
+        assert_eq!(s.bounces, 8);
         assert_eq!(s.spp, 16);
         assert_eq!(s.aov, Aov::Ao);
         assert_eq!(s.ao_radius, f32::INFINITY);
@@ -265,6 +280,7 @@ mod tests {
             ("spp", "0"),
             ("spp", "x"),
             ("ao_radius", "-1"),
+            ("bounces", "2000"),
             ("fov", "1"),
         ] {
             let e = s.set(k, v).unwrap_err().to_string();

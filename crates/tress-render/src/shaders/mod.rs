@@ -30,6 +30,10 @@ pub const SOURCES: &[(&str, &str)] = &[
     ("common/lighting.wgsl", include_str!("common/lighting.wgsl")),
     ("common/params.wgsl", include_str!("common/params.wgsl")),
     ("common/shading.wgsl", include_str!("common/shading.wgsl")),
+    (
+        "common/marschner.wgsl",
+        include_str!("common/marschner.wgsl"),
+    ),
     ("common/ppll.wgsl", include_str!("common/ppll.wgsl")),
     (
         "common/ppll_pool.wgsl",

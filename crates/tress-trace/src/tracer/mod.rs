@@ -3,12 +3,14 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
+mod path;
 mod setup;
 
 use glam::Vec3;
 use rayon::prelude::*;
 use tress_hair::rng::Rng;
 use tress_scene::Scene;
+use tress_shading::fiber::HairFiber;
 use tress_shading::{HairLighting, HairSample, KajiyaKay, hair_lighting, kajiya_kay};
 
 use crate::bvh::Visit;
@@ -116,6 +118,8 @@ pub struct Tracer {
     shading: Shading,
     kajiya_kay: KajiyaKay,
     lighting: HairLighting,
+    /// The physically based fibre (`[hair.material]`), used with [`Shading::Marschner`].
+    fiber: HairFiber,
     base_color: Vec3,
     vertex_colors: Option<Vec<Vec3>>,
     hair_center: Vec3,
@@ -149,6 +153,7 @@ impl Tracer {
             .map(|l| (l.to_light(), l.radiance()))
             .collect();
 
+        let fiber = material.fiber()?;
         let prims = Primitives::build(geometry, &camera, gpu, settings, material.thickness)?;
         let vertex_colors = geometry
             .hair
@@ -165,6 +170,7 @@ impl Tracer {
             shading: gpu.shading,
             kajiya_kay: material.kajiya_kay(),
             lighting: material.hair_lighting(),
+            fiber,
             base_color: material.base_color,
             vertex_colors,
             hair_center,
@@ -258,7 +264,16 @@ impl Tracer {
                 let (u0, u1) = lattice_point(j, ao_n, ao_g, rng.f32(), rng.f32());
                 (u0, (u1 + ao_shift.1 as f32 / ao_n as f32).fract())
             });
-            let v = self.sample(&ray, key, &mut ao_points, rays);
+            let v = if self.shading == Shading::Marschner && self.settings.aov == Aov::Color {
+                let color = self.path_radiance(&ray, &mut Rng::new(key), rays);
+                SampleValue {
+                    color,
+                    ao: 1.0,
+                    shadow: 1.0,
+                }
+            } else {
+                self.sample(&ray, key, &mut ao_points, rays)
+            };
             sum += match self.settings.aov {
                 Aov::Color => v.color,
                 Aov::Ao => Vec3::splat(v.ao),
@@ -364,6 +379,9 @@ impl Tracer {
                             };
                             hair_lighting(&self.lighting, &sample, l, radiance, v)
                         }
+                        // The path tracer shades the colour (`path.rs`); this runs only for the
+                        // AO and shadow AOVs.
+                        Shading::Marschner => Vec3::ZERO,
                     };
                     color += c * vis;
                     let w = luminance(radiance);

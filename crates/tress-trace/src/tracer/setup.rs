@@ -39,6 +39,8 @@ struct GpuStrandKeys {
 pub(super) enum Shading {
     KajiyaKay,
     Scheuermann,
+    /// Physically based: the path tracer with Chiang et al. 2016's fibres ([`super::path`]).
+    Marschner,
 }
 
 /// The rasterizer's `strands.thickness_fade`.
@@ -73,11 +75,22 @@ impl GpuStrands {
         let shading = match keys.shading.as_deref().unwrap_or("kajiya-kay") {
             "kajiya-kay" => Shading::KajiyaKay,
             "scheuermann" => Shading::Scheuermann,
+            "marschner" => Shading::Marschner,
             s => {
                 return invalid(format!(
-                    "unknown shading `{s}` (expected kajiya-kay or scheuermann)"
+                    "strands.shading: unknown shading `{s}` (expected kajiya-kay, scheuermann or \
+                     marschner)"
                 ));
             }
+        };
+        // The patches follow their own key: `patches.shading = "marschner"` with the patches
+        // technique traces the physically based reference too.
+        let patches_marschner = scene.technique == "patches"
+            && scene.patches.get("shading").and_then(|v| v.as_str()) == Some("marschner");
+        let shading = if patches_marschner {
+            Shading::Marschner
+        } else {
+            shading
         };
         let thickness_fade = match keys.thickness_fade.as_deref().unwrap_or("tip") {
             "off" => ThicknessFade::Off,
@@ -213,9 +226,10 @@ impl Segment {
         let s = closest_segment_param(ray, self.a, self.b);
         let r = self.radius[0] + (self.radius[1] - self.radius[0]) * s;
         // Cheap rejection: the segment's closest point is farther than r from the ray's line.
+        // (The perpendicular part itself, not |q|² - along²: see `intersect_capsule`.)
         let q = self.a + (self.b - self.a) * s - ray.origin;
-        let along = q.dot(ray.dir);
-        if q.length_squared() - along * along > r * r {
+        let perp = q - q.dot(ray.dir) * ray.dir;
+        if perp.length_squared() > r * r {
             return None;
         }
         let hit = intersect_capsule(ray, self.a, self.b, r)?;
@@ -386,8 +400,14 @@ fn strand_segments(
     let width_px = settings.width_px.unwrap_or(gpu.width_px * 0.5);
     let transparency = hair.transparency();
     let positions = hair.positions();
+    // Physically based fibres are opaque: their transmission is the BSDF's.
+    let opaque = gpu.shading == Shading::Marschner;
     let per_vertex = |i: usize| -> (f32, f32) {
-        let opacity = gpu.alpha * transparency.map_or(1.0, |t| (1.0 - t[i]).clamp(0.0, 1.0));
+        let opacity = if opaque {
+            1.0
+        } else {
+            gpu.alpha * transparency.map_or(1.0, |t| (1.0 - t[i]).clamp(0.0, 1.0))
+        };
         let thick = thickness.map_or(0.0, |t| t[i]);
         match mode {
             StrandWidth::Thickness => (0.5 * material_thickness.unwrap_or(thick), opacity),
@@ -395,6 +415,7 @@ fn strand_segments(
                 let depth = (positions[i] - camera.eye).dot(camera.forward);
                 let wpp = camera.world_per_pixel(depth);
                 let fade = match gpu.thickness_fade {
+                    _ if opaque => 1.0,
                     ThicknessFade::Tip if max_thickness > 0.0 => tip_fade(thick, max_thickness),
                     ThicknessFade::Projected if thickness.is_some() => {
                         tip_fade(thick / wpp, gpu.width_px)

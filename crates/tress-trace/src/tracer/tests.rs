@@ -5,7 +5,7 @@ use tress_hair::generate::TriMesh;
 
 /// A scene looking down -z from `(0, 0, 10)` at the origin (30° field of view), black
 /// background, no head, no lights unless `extra` adds them, a hair entry for the material.
-fn scene(size: u32, extra: &str) -> Scene {
+pub(super) fn scene(size: u32, extra: &str) -> Scene {
     let lights = if extra.contains("[[light]]") {
         ""
     } else {
@@ -25,7 +25,7 @@ fn scene(size: u32, extra: &str) -> Scene {
 }
 
 /// Straight two-vertex strands from `a` to `b` with a constant thickness.
-fn strands(pairs: &[(Vec3, Vec3)], thickness: f32) -> HairAsset {
+pub(super) fn strands(pairs: &[(Vec3, Vec3)], thickness: f32) -> HairAsset {
     let positions: Vec<Vec3> = pairs.iter().flat_map(|&(a, b)| [a, b]).collect();
     let n = positions.len();
     HairAsset::from_counts(positions, &vec![2; pairs.len()])
@@ -34,7 +34,7 @@ fn strands(pairs: &[(Vec3, Vec3)], thickness: f32) -> HairAsset {
         .unwrap()
 }
 
-fn quad(z: f32, half: f32) -> TriMesh {
+pub(super) fn quad(z: f32, half: f32) -> TriMesh {
     TriMesh {
         positions: vec![
             Vec3::new(-half, -half, z),
@@ -76,7 +76,7 @@ fn cube(h: f32) -> TriMesh {
     }
 }
 
-fn tracer(
+pub(super) fn tracer(
     scene: &Scene,
     hair: Option<HairAsset>,
     head: Option<TriMesh>,
