@@ -16,9 +16,17 @@ fn pyalembic_groom_reads_as_the_script_states() {
     let e = expected("abc_expected.json", "groom.abc");
     let loaded = load_path(&data("groom.abc"), &ReadOptions::default()).unwrap();
     check(&loaded.asset, &e, "groom.abc");
-    let objects: Vec<&str> = e["objects"].as_array().unwrap().iter().map(|o| o.as_str().unwrap()).collect();
+    let objects: Vec<&str> = e["objects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| o.as_str().unwrap())
+        .collect();
     assert_eq!(loaded.details.objects, objects);
-    assert_eq!(loaded.details.guides_skipped as u64, e["guides_skipped"].as_u64().unwrap());
+    assert_eq!(
+        loaded.details.guides_skipped as u64,
+        e["guides_skipped"].as_u64().unwrap()
+    );
     // groom_root_uv of the first two (non-guide) curves, the others filled with 0
     let uv = loaded.asset.strand_uv().unwrap();
     assert_eq!((uv[0].x, uv[1].x, uv[1].y), (0.0, 0.25, 0.5));
@@ -26,11 +34,18 @@ fn pyalembic_groom_reads_as_the_script_states() {
 
 #[test]
 fn hostile_alembic_files_are_one_line_errors() {
-    let e = load_path(&data("hdf5.abc"), &ReadOptions::default()).unwrap_err().to_string();
-    assert!(e.ends_with("HDF5 Alembic is not supported, re-export as Ogawa"), "{e}");
+    let e = load_path(&data("hdf5.abc"), &ReadOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.ends_with("HDF5 Alembic is not supported, re-export as Ogawa"),
+        "{e}"
+    );
     assert!(e.contains("hdf5.abc"), "{e}");
     for file in ["truncated.abc", "bad_magic.abc"] {
-        let e = load_path(&data(file), &ReadOptions::default()).unwrap_err().to_string();
+        let e = load_path(&data(file), &ReadOptions::default())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains(file) && !e.contains('\n'), "{e}");
     }
 }
@@ -39,7 +54,9 @@ fn linear(name: &str, counts: &[i32], seed: f32) -> CurvesOut {
     let n: i32 = counts.iter().sum();
     CurvesOut {
         name: name.into(),
-        positions: (0..n).map(|i| [i as f32 * 0.25 + seed, -(i as f32), seed]).collect(),
+        positions: (0..n)
+            .map(|i| [i as f32 * 0.25 + seed, -(i as f32), seed])
+            .collect(),
         vertex_counts: counts.to_vec(),
         widths: Some((Scope::Vertex, (0..n).map(|i| 0.001 * i as f32).collect())),
         ..CurvesOut::default()
@@ -49,7 +66,9 @@ fn linear(name: &str, counts: &[i32], seed: f32) -> CurvesOut {
 #[test]
 fn our_writer_round_trips_with_transforms_and_guides() {
     let mut a = linear("a", &[3, 2], 0.0);
-    a.xform = Some([2.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 1.0, 0.0, 0.0, 1.0]);
+    a.xform = Some([
+        2.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 1.0, 0.0, 0.0, 1.0,
+    ]);
     a.guide = Some(vec![0, 1]);
     let mut b = linear("b", &[5], 3.0);
     b.kind = Some((CurveType::Cubic, Wrap::NonPeriodic, Basis::CatmullRom));

@@ -13,13 +13,35 @@ fn pygltflib_files_read_as_stated() {
     for file in ["cube.glb", "cube.gltf", "cube_embedded.gltf"] {
         let e = expected("gltf_expected.json", file);
         let m = read_mesh(&data(file)).unwrap();
-        assert_eq!(m.triangle_count() as u64, e["triangles"].as_u64().unwrap(), "{file}");
-        assert_eq!(m.positions.len() as u64, e["vertices"].as_u64().unwrap(), "{file}");
+        assert_eq!(
+            m.triangle_count() as u64,
+            e["triangles"].as_u64().unwrap(),
+            "{file}"
+        );
+        assert_eq!(
+            m.positions.len() as u64,
+            e["vertices"].as_u64().unwrap(),
+            "{file}"
+        );
         for i in 0..3 {
-            let lo = m.positions.iter().map(|p| p[i]).fold(f32::INFINITY, f32::min);
-            let hi = m.positions.iter().map(|p| p[i]).fold(f32::NEG_INFINITY, f32::max);
-            assert!((f64::from(lo) - e["min"][i].as_f64().unwrap()).abs() < 1e-6, "{file}");
-            assert!((f64::from(hi) - e["max"][i].as_f64().unwrap()).abs() < 1e-6, "{file}");
+            let lo = m
+                .positions
+                .iter()
+                .map(|p| p[i])
+                .fold(f32::INFINITY, f32::min);
+            let hi = m
+                .positions
+                .iter()
+                .map(|p| p[i])
+                .fold(f32::NEG_INFINITY, f32::max);
+            assert!(
+                (f64::from(lo) - e["min"][i].as_f64().unwrap()).abs() < 1e-6,
+                "{file}"
+            );
+            assert!(
+                (f64::from(hi) - e["max"][i].as_f64().unwrap()).abs() < 1e-6,
+                "{file}"
+            );
         }
         assert!(m.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-4));
     }
@@ -28,7 +50,10 @@ fn pygltflib_files_read_as_stated() {
 #[test]
 fn lying_gltf_files_are_errors() {
     let e = read_mesh(&data("cube_lying.glb")).unwrap_err().to_string();
-    assert!(e.contains("cube_lying.glb") && e.contains("declares"), "{e}");
+    assert!(
+        e.contains("cube_lying.glb") && e.contains("declares"),
+        "{e}"
+    );
     // a .gltf read from memory cannot reach its external buffer
     let text = std::fs::read(data("cube.gltf")).unwrap();
     assert!(read_gltf(&text, None).is_err());

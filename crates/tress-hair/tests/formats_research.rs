@@ -16,7 +16,10 @@ fn script_files_read_as_stated() {
         let loaded = load_path(&data(file), &ReadOptions::default()).unwrap();
         check(&loaded.asset, &e, file);
         if let Some(s) = e.get("single_vertex_skipped") {
-            assert_eq!(loaded.details.single_vertex_skipped as u64, s.as_u64().unwrap());
+            assert_eq!(
+                loaded.details.single_vertex_skipped as u64,
+                s.as_u64().unwrap()
+            );
         }
     }
 }
@@ -25,12 +28,22 @@ fn script_files_read_as_stated() {
 fn lying_counts_are_errors_before_allocating() {
     let mut huge = i32::MAX.to_le_bytes().to_vec();
     huge.extend_from_slice(&[0; 8]);
-    assert!(read_data(&huge).unwrap_err().to_string().contains("at most"));
+    assert!(
+        read_data(&huge)
+            .unwrap_err()
+            .to_string()
+            .contains("at most")
+    );
     assert!(read_ct2hair(&huge).is_err());
     let mut strand = 1i32.to_le_bytes().to_vec();
     strand.extend_from_slice(&1_000_000i32.to_le_bytes());
     strand.extend_from_slice(&[0; 24]);
-    assert!(read_data(&strand).unwrap_err().to_string().contains("room for 2"));
+    assert!(
+        read_data(&strand)
+            .unwrap_err()
+            .to_string()
+            .contains("room for 2")
+    );
     assert!(read_ct2hair(&strand).is_err());
     assert!(read_data(&[]).is_err() && read_ct2hair(&[1, 0]).is_err());
     let bytes = std::fs::read(data("salon.data")).unwrap();
@@ -39,7 +52,12 @@ fn lying_counts_are_errors_before_allocating() {
     }
     let mut extra = bytes.clone();
     extra.push(0);
-    assert!(read_data(&extra).unwrap_err().to_string().contains("follow"));
+    assert!(
+        read_data(&extra)
+            .unwrap_err()
+            .to_string()
+            .contains("follow")
+    );
 }
 
 proptest! {

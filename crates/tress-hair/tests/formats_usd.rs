@@ -13,7 +13,13 @@ use tress_hair::formats::{
 
 #[test]
 fn usd_core_files_read_as_the_script_states() {
-    for file in ["groom.usda", "groom.usdc", "groom.usdz", "cubic.usda", "nurbs.usda"] {
+    for file in [
+        "groom.usda",
+        "groom.usdc",
+        "groom.usdz",
+        "cubic.usda",
+        "nurbs.usda",
+    ] {
         let e = expected("usd_expected.json", file);
         let loaded = load_path(&data(file), &ReadOptions::default()).unwrap();
         check(&loaded.asset, &e, file);
@@ -32,8 +38,14 @@ fn usd_mesh_prims_are_the_head() {
     for file in ["groom.usda", "groom.usdc", "groom.usdz"] {
         let e = expected("usd_expected.json", file);
         let m = read_mesh(&data(file)).unwrap();
-        assert_eq!(m.triangle_count() as u64, e["mesh_triangles"].as_u64().unwrap());
-        assert_eq!(m.positions.len() as u64, e["mesh_vertices"].as_u64().unwrap());
+        assert_eq!(
+            m.triangle_count() as u64,
+            e["mesh_triangles"].as_u64().unwrap()
+        );
+        assert_eq!(
+            m.positions.len() as u64,
+            e["mesh_vertices"].as_u64().unwrap()
+        );
         let lo = e["mesh_min"][1].as_f64().unwrap() as f32;
         assert!(m.positions.iter().all(|p| p.y >= lo - 1e-5));
         assert!(m.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-4));
@@ -55,12 +67,18 @@ fn cubic_density_is_a_setting() {
 }
 
 fn full_asset() -> HairAsset {
-    let p: Vec<Vec3> = (0..7).map(|i| Vec3::new(i as f32 * 0.5, -(i as f32), 0.25)).collect();
+    let p: Vec<Vec3> = (0..7)
+        .map(|i| Vec3::new(i as f32 * 0.5, -(i as f32), 0.25))
+        .collect();
     HairAsset::from_counts(p, &[3, 4])
         .unwrap()
         .with_thickness((0..7).map(|i| 0.01 * i as f32).collect())
         .unwrap()
-        .with_color((0..7).map(|i| Vec3::new(0.1 * i as f32, 0.5, 0.2)).collect())
+        .with_color(
+            (0..7)
+                .map(|i| Vec3::new(0.1 * i as f32, 0.5, 0.2))
+                .collect(),
+        )
         .unwrap()
         .with_strand_uv(vec![Vec2::new(0.25, 0.5), Vec2::new(0.75, 0.125)])
         .unwrap()
@@ -90,7 +108,9 @@ fn hostile_usd_files_are_one_line_errors() {
         ("self_ref.usda", "cycle"),
         ("missing.usda", "missing.usda"),
     ] {
-        let e = load_path(&data(file), &ReadOptions::default()).unwrap_err().to_string();
+        let e = load_path(&data(file), &ReadOptions::default())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains(needle), "{file}: {e}");
         assert!(!e.contains('\n'), "{file}: {e}");
     }
@@ -99,7 +119,9 @@ fn hostile_usd_files_are_one_line_errors() {
                  point3f[] points = [(0,0,0), (1,1,1), (2,2,2)]\n uniform token type = \"linear\"\n}\n";
     let e = read_usd_bytes(lying.as_bytes(), "usda", &ReadOptions::default()).unwrap_err();
     assert!(e.to_string().contains("add up to"), "{e}");
-    let bezier = lying.replace("[2, 900000000]", "[3]").replace("\"linear\"", "\"cubic\"");
+    let bezier = lying
+        .replace("[2, 900000000]", "[3]")
+        .replace("\"linear\"", "\"cubic\"");
     let e = read_usd_bytes(bezier.as_bytes(), "usda", &ReadOptions::default()).unwrap_err();
     assert!(e.to_string().contains("3k + 1"), "{e}");
     let negative = lying.replace("[2, 900000000]", "[-1, 4]");

@@ -311,8 +311,8 @@ pub fn hybrid_settings(scene: &Scene) -> Result<HybridSettings, RenderError> {
 /// ([`tress_hair::formats::read_mesh`]: faces triangulated, normals from the file or the faces,
 /// hostile indices rejected). Errors name the file.
 pub fn read_obj_mesh(path: &Path) -> Result<HeadMesh, RenderError> {
-    let m = tress_hair::formats::read_mesh(path)
-        .map_err(|e| RenderError::Invalid(e.to_string()))?;
+    let m =
+        tress_hair::formats::read_mesh(path).map_err(|e| RenderError::Invalid(e.to_string()))?;
     let mesh = HeadMesh {
         positions: m.positions,
         normals: m.normals,

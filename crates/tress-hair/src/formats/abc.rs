@@ -70,13 +70,26 @@ fn curve_set(c: Curves, guides: &mut usize) -> Result<CurveSet, HairError> {
             if orders.len() != c.vertex_counts.len() {
                 return Err(HairError::format(
                     FORMAT,
-                    format!("{name}: {} orders for {} curves", orders.len(), c.vertex_counts.len()),
+                    format!(
+                        "{name}: {} orders for {} curves",
+                        orders.len(),
+                        c.vertex_counts.len()
+                    ),
                 ));
             }
             Shape::Nurbs {
                 orders: orders.into_iter().map(u32::from).collect(),
-                knots: c.knots.clone().unwrap_or_default().into_iter().map(f64::from).collect(),
-                weights: c.weights.clone().map(|w| w.into_iter().map(f64::from).collect()),
+                knots: c
+                    .knots
+                    .clone()
+                    .unwrap_or_default()
+                    .into_iter()
+                    .map(f64::from)
+                    .collect(),
+                weights: c
+                    .weights
+                    .clone()
+                    .map(|w| w.into_iter().map(f64::from).collect()),
             }
         }
     };
@@ -99,12 +112,17 @@ fn curve_set(c: Curves, guides: &mut usize) -> Result<CurveSet, HairError> {
         None => None,
     };
     let strand_uv = match &c.root_uv {
-        Some(p) if p.values.len() == curves => Some(p.values.iter().map(|&v| Vec2::from_array(v)).collect()),
+        Some(p) if p.values.len() == curves => {
+            Some(p.values.iter().map(|&v| Vec2::from_array(v)).collect())
+        }
         Some(p) if p.values.len() == 1 => Some(vec![Vec2::from_array(p.values[0]); curves]),
         Some(p) => {
             return Err(HairError::format(
                 FORMAT,
-                format!("{name}: groom_root_uv has {} values for {curves} curves", p.values.len()),
+                format!(
+                    "{name}: groom_root_uv has {} values for {curves} curves",
+                    p.values.len()
+                ),
             ));
         }
         None => None,
@@ -122,6 +140,7 @@ fn curve_set(c: Curves, guides: &mut usize) -> Result<CurveSet, HairError> {
             interp: interp(p.scope),
             values: p.values.into_iter().map(Vec3::from_array).collect(),
         }),
+        opacity: None,
         strand_uv,
         skip,
         world: DMat4::from_cols_array(&c.world),
@@ -149,7 +168,10 @@ pub fn read_abc(bytes: &[u8], options: &ReadOptions) -> Result<(HairAsset, AbcIn
             if info.objects.is_empty() {
                 "the file has no curves (ICurves) objects".to_string()
             } else {
-                format!("the curves objects {} hold only guides", info.objects.join(", "))
+                format!(
+                    "the curves objects {} hold only guides",
+                    info.objects.join(", ")
+                )
             },
         ));
     }

@@ -44,8 +44,11 @@ pub fn read_ct2hair(bytes: &[u8]) -> Result<HairAsset, HairError> {
     let mut counts = Vec::with_capacity(strands as usize);
     let mut total = 0usize;
     for i in 0..strands as usize {
-        let n = i32_at(bytes, at)
-            .ok_or_else(|| err(format!("truncated: strand {i} of {strands} has no point count")))?;
+        let n = i32_at(bytes, at).ok_or_else(|| {
+            err(format!(
+                "truncated: strand {i} of {strands} has no point count"
+            ))
+        })?;
         let left = (bytes.len() - at - 4) as u64 / POINT as u64;
         if n <= 0 || n as u64 > left {
             return Err(err(format!(

@@ -24,7 +24,8 @@
 //!
 //! # Primvars
 //!
-//! Widths (diameters → thickness) and colors are per curve set with an interpolation:
+//! Widths (diameters → thickness), colors and opacities (→ transparency `1 − opacity`) are
+//! per curve set with an interpolation:
 //! `constant` (one value), `uniform` (one per curve), `varying` (one per span end; per vertex
 //! on linear curves), `vertex` (one per control vertex, interpolated with the curve's own basis).
 //! When the declared interpolation does not match the number of values, the interpolation that
@@ -120,6 +121,8 @@ pub(crate) struct CurveSet {
     pub(crate) shape: Shape,
     pub(crate) widths: Option<Primvar<f32>>,
     pub(crate) colors: Option<Primvar<Vec3>>,
+    /// Opacity (1 − transparency).
+    pub(crate) opacity: Option<Primvar<f32>>,
     /// One UV per curve.
     pub(crate) strand_uv: Option<Vec<Vec2>>,
     /// Curves to leave out (Alembic guides), one flag per curve.
@@ -194,24 +197,50 @@ impl Stencils {
     }
 
     /// A cubic curve of `n` control vertices.
-    fn cubic(&mut self, basis: CubicBasis, wrap: Wrap, n: usize, segments: u32) -> Result<(), String> {
+    fn cubic(
+        &mut self,
+        basis: CubicBasis,
+        wrap: Wrap,
+        n: usize,
+        segments: u32,
+    ) -> Result<(), String> {
         let (matrix, bezier) = match basis {
             CubicBasis::Bezier => (&BEZIER, true),
             CubicBasis::Bspline => (&BSPLINE, false),
             CubicBasis::CatmullRom => (&CATMULL_ROM, false),
         };
-        let wrap = if bezier && wrap == Wrap::Pinned { Wrap::NonPeriodic } else { wrap };
+        let wrap = if bezier && wrap == Wrap::Pinned {
+            Wrap::NonPeriodic
+        } else {
+            wrap
+        };
         let spans = match (bezier, wrap) {
             (true, Wrap::Periodic) if n >= 3 && n % 3 == 0 => n / 3,
-            (true, Wrap::Periodic) => return Err(format!("a periodic Bezier curve needs 3k vertices, not {n}")),
+            (true, Wrap::Periodic) => {
+                return Err(format!(
+                    "a periodic Bezier curve needs 3k vertices, not {n}"
+                ));
+            }
             (true, _) if n >= 4 && (n - 4) % 3 == 0 => (n - 1) / 3,
-            (true, _) => return Err(format!("a Bezier curve needs 3k + 1 vertices (at least 4), not {n}")),
+            (true, _) => {
+                return Err(format!(
+                    "a Bezier curve needs 3k + 1 vertices (at least 4), not {n}"
+                ));
+            }
             (false, Wrap::NonPeriodic) if n >= 4 => n - 3,
-            (false, Wrap::NonPeriodic) => return Err(format!("needs at least 4 vertices, not {n}")),
+            (false, Wrap::NonPeriodic) => {
+                return Err(format!("needs at least 4 vertices, not {n}"));
+            }
             (false, Wrap::Pinned) if n >= 2 => n - 1,
-            (false, Wrap::Pinned) => return Err(format!("a pinned curve needs at least 2 vertices, not {n}")),
+            (false, Wrap::Pinned) => {
+                return Err(format!("a pinned curve needs at least 2 vertices, not {n}"));
+            }
             (false, Wrap::Periodic) if n >= 3 => n,
-            (false, Wrap::Periodic) => return Err(format!("a periodic curve needs at least 3 vertices, not {n}")),
+            (false, Wrap::Periodic) => {
+                return Err(format!(
+                    "a periodic curve needs at least 3 vertices, not {n}"
+                ));
+            }
         };
         self.spans = spans as u32;
         let last = n as i64 - 1;
@@ -223,7 +252,11 @@ impl Stencils {
                 let mut taps = [(0u32, 0.0f32); 8];
                 let mut m = 0;
                 for (j, &wj) in w.iter().enumerate() {
-                    let raw = if bezier { 3 * s as i64 + j as i64 } else { s as i64 + j as i64 };
+                    let raw = if bezier {
+                        3 * s as i64 + j as i64
+                    } else {
+                        s as i64 + j as i64
+                    };
                     match wrap {
                         Wrap::Periodic => {
                             taps[m] = ((raw.rem_euclid(n as i64)) as u32, wj);
@@ -258,7 +291,13 @@ impl Stencils {
     }
 
     /// A NURBS curve: `n` control vertices, `order`, its `n + order` knots.
-    fn nurbs(&mut self, n: usize, order: usize, knots: &[f64], segments: u32) -> Result<(), String> {
+    fn nurbs(
+        &mut self,
+        n: usize,
+        order: usize,
+        knots: &[f64],
+        segments: u32,
+    ) -> Result<(), String> {
         if !(2..=MAX_ORDER).contains(&order) {
             return Err(format!("order {order} is outside 2..={MAX_ORDER}"));
         }
@@ -280,7 +319,11 @@ impl Stencils {
                 let t = k as f32 / segments as f32;
                 let u = a + (b - a) * f64::from(t);
                 let basis = cox_de_boor(knots, i, p, u);
-                self.push(span_index, t, (0..order).map(|j| ((i - p + j) as u32, basis[j] as f32)));
+                self.push(
+                    span_index,
+                    t,
+                    (0..order).map(|j| ((i - p + j) as u32, basis[j] as f32)),
+                );
             }
             span_index += 1;
         }
@@ -362,9 +405,14 @@ fn resolve<'a, T>(
         .interp
         .filter(|&i| fits(i))
         .or_else(|| {
-            [Interp::Vertex, Interp::Varying, Interp::Uniform, Interp::Constant]
-                .into_iter()
-                .find(|&i| fits(i))
+            [
+                Interp::Vertex,
+                Interp::Varying,
+                Interp::Uniform,
+                Interp::Constant,
+            ]
+            .into_iter()
+            .find(|&i| fits(i))
         })
         .ok_or_else(|| {
             HairError::Invalid(format!(
@@ -391,22 +439,35 @@ impl CurveSet {
             )));
         }
         if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
-            return Err(HairError::Invalid(format!("{name}: point {i} is not finite")));
+            return Err(HairError::Invalid(format!(
+                "{name}: point {i} is not finite"
+            )));
         }
         let curves = self.counts.len();
         let segments = options.cubic_segments;
         if let Some(s) = &self.skip
             && s.len() != curves
         {
-            return Err(HairError::Invalid(format!("{name}: {} guide flags for {curves} curves", s.len())));
+            return Err(HairError::Invalid(format!(
+                "{name}: {} guide flags for {curves} curves",
+                s.len()
+            )));
         }
         if let Some(uv) = &self.strand_uv
             && uv.len() != curves
         {
-            return Err(HairError::Invalid(format!("{name}: {} root UVs for {curves} curves", uv.len())));
+            return Err(HairError::Invalid(format!(
+                "{name}: {} root UVs for {curves} curves",
+                uv.len()
+            )));
         }
         // Stencils per curve, and the number of span ends (the varying count).
-        let mut plans: Vec<(usize, usize, Stencils)> = Vec::with_capacity(if matches!(self.shape, Shape::Linear) { 0 } else { curves });
+        let mut plans: Vec<(usize, usize, Stencils)> =
+            Vec::with_capacity(if matches!(self.shape, Shape::Linear) {
+                0
+            } else {
+                curves
+            });
         let mut varying = 0usize;
         let linear = matches!(self.shape, Shape::Linear);
         if linear {
@@ -421,16 +482,19 @@ impl CurveSet {
                 match &self.shape {
                     Shape::Linear => {}
                     Shape::Cubic(basis, wrap) => {
-                        st.cubic(*basis, *wrap, n, segments).map_err(|e| invalid(name, i, e))?;
+                        st.cubic(*basis, *wrap, n, segments)
+                            .map_err(|e| invalid(name, i, e))?;
                         varying += st.spans as usize + usize::from(*wrap != Wrap::Periodic);
                     }
                     Shape::Nurbs { orders, knots, .. } => {
-                        let order = *orders.get(i).ok_or_else(|| invalid(name, i, "no order"))? as usize;
+                        let order =
+                            *orders.get(i).ok_or_else(|| invalid(name, i, "no order"))? as usize;
                         let k = knots
                             .get(knot_at..knot_at + n + order)
                             .ok_or_else(|| invalid(name, i, "the knot vector is too short"))?;
                         knot_at += n + order;
-                        st.nurbs(n, order, k, segments).map_err(|e| invalid(name, i, e))?;
+                        st.nurbs(n, order, k, segments)
+                            .map_err(|e| invalid(name, i, e))?;
                         varying += st.spans as usize + 1;
                     }
                 }
@@ -448,9 +512,18 @@ impl CurveSet {
             .as_ref()
             .map(|p| resolve(name, "colors", p, curves, self.positions.len(), varying))
             .transpose()?;
+        let opacity = self
+            .opacity
+            .as_ref()
+            .map(|p| resolve(name, "opacity", p, curves, self.positions.len(), varying))
+            .transpose()?;
         let weights = match &self.shape {
-            Shape::Nurbs { weights: Some(w), .. } if w.len() == self.positions.len() => Some(w.as_slice()),
-            Shape::Nurbs { weights: Some(w), .. } if !w.is_empty() => {
+            Shape::Nurbs {
+                weights: Some(w), ..
+            } if w.len() == self.positions.len() => Some(w.as_slice()),
+            Shape::Nurbs {
+                weights: Some(w), ..
+            } if !w.is_empty() => {
                 return Err(HairError::Invalid(format!(
                     "{name}: {} point weights for {} points",
                     w.len(),
@@ -467,16 +540,26 @@ impl CurveSet {
         let width_scale = if det.is_finite() { det } else { 1.0 };
         let mut positions = Vec::with_capacity(if linear { self.positions.len() } else { 0 });
         let mut counts = Vec::with_capacity(curves);
-        let mut thickness = widths.as_ref().map(|_| Vec::with_capacity(positions.capacity()));
-        let mut color = colors.as_ref().map(|_| Vec::with_capacity(positions.capacity()));
+        let mut thickness = widths
+            .as_ref()
+            .map(|_| Vec::with_capacity(positions.capacity()));
+        let mut color = colors
+            .as_ref()
+            .map(|_| Vec::with_capacity(positions.capacity()));
+        let mut alpha = opacity
+            .as_ref()
+            .map(|_| Vec::with_capacity(positions.capacity()));
         let mut uvs = self.strand_uv.as_ref().map(|_| Vec::with_capacity(curves));
         let mut start = 0usize;
         let mut varying_at = 0usize;
         for i in 0..curves {
             let n = self.counts[i] as usize;
-            let span_ends = if linear { n } else {
+            let span_ends = if linear {
+                n
+            } else {
                 let st = &plans[i].2;
-                st.spans as usize + usize::from(!matches!(self.shape, Shape::Cubic(_, Wrap::Periodic)))
+                st.spans as usize
+                    + usize::from(!matches!(self.shape, Shape::Cubic(_, Wrap::Periodic)))
             };
             let range = start..start + n;
             let vrange = varying_at..varying_at + span_ends;
@@ -498,7 +581,11 @@ impl CurveSet {
                         p += self.positions[range.start + j as usize] * w;
                         wsum += w;
                     }
-                    positions.push(if weights.is_some() && wsum != 0.0 { p / wsum } else { p });
+                    positions.push(if weights.is_some() && wsum != 0.0 {
+                        p / wsum
+                    } else {
+                        p
+                    });
                 }
             }
             let out = positions.len() - before;
@@ -509,6 +596,9 @@ impl CurveSet {
             }
             if let (Some(c), Some(r)) = (color.as_mut(), colors.as_ref()) {
                 expand(c, r, i, range.clone(), vrange.clone(), out, plan);
+            }
+            if let (Some(a), Some(r)) = (alpha.as_mut(), opacity.as_ref()) {
+                expand(a, r, i, range.clone(), vrange.clone(), out, plan);
             }
             if let (Some(u), Some(src)) = (uvs.as_mut(), self.strand_uv.as_ref()) {
                 u.push(src[i]);
@@ -527,13 +617,25 @@ impl CurveSet {
             for w in &mut t {
                 *w = (*w * width_scale).max(0.0);
             }
-            asset = asset.with_thickness(t).map_err(|e| HairError::Invalid(format!("{name}: {e}")))?;
+            asset = asset
+                .with_thickness(t)
+                .map_err(|e| HairError::Invalid(format!("{name}: {e}")))?;
         }
         if let Some(c) = color {
-            asset = asset.with_color(c).map_err(|e| HairError::Invalid(format!("{name}: {e}")))?;
+            asset = asset
+                .with_color(c)
+                .map_err(|e| HairError::Invalid(format!("{name}: {e}")))?;
+        }
+        if let Some(a) = alpha {
+            let t = a.into_iter().map(|o| 1.0 - o).collect();
+            asset = asset
+                .with_transparency(t)
+                .map_err(|e| HairError::Invalid(format!("{name}: {e}")))?;
         }
         if let Some(u) = uvs {
-            asset = asset.with_strand_uv(u).map_err(|e| HairError::Invalid(format!("{name}: {e}")))?;
+            asset = asset
+                .with_strand_uv(u)
+                .map_err(|e| HairError::Invalid(format!("{name}: {e}")))?;
         }
         Ok(Some(asset))
     }
@@ -553,7 +655,11 @@ fn expand<T: Blend>(
         (Interp::Constant, _) => dst.extend(std::iter::repeat_n(p.values[0], out)),
         (Interp::Uniform, _) => dst.extend(std::iter::repeat_n(p.values[i], out)),
         (Interp::Vertex, None) | (Interp::Varying, None) => {
-            let src = if p.interp == Interp::Vertex { vertices } else { span_ends };
+            let src = if p.interp == Interp::Vertex {
+                vertices
+            } else {
+                span_ends
+            };
             dst.extend_from_slice(&p.values[src]);
         }
         (Interp::Vertex, Some(st)) => {

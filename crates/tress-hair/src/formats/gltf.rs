@@ -19,8 +19,8 @@ use std::path::Path;
 use base64::Engine;
 use glam::{Mat4, Vec3};
 
-use crate::generate::TriMesh;
 use crate::HairError;
+use crate::generate::TriMesh;
 
 const FORMAT: &str = "glTF";
 
@@ -54,7 +54,10 @@ pub fn read_gltf(bytes: &[u8], base_dir: Option<&Path>) -> Result<TriMesh, HairE
     for v in gltf.views() {
         let end = v.offset().checked_add(v.length());
         if end.is_none_or(|e| e > buffers[v.buffer().index()].len()) {
-            return Err(err(format!("buffer view {} lies outside its buffer", v.index())));
+            return Err(err(format!(
+                "buffer view {} lies outside its buffer",
+                v.index()
+            )));
         }
     }
     for a in gltf.accessors() {
@@ -66,7 +69,10 @@ pub fn read_gltf(bytes: &[u8], base_dir: Option<&Path>) -> Result<TriMesh, HairE
             .map_or(Some(0), |n| n.checked_mul(stride)?.checked_add(a.size()))
             .and_then(|n| n.checked_add(a.offset()));
         if need.is_none_or(|n| n > view.length()) {
-            return Err(err(format!("accessor {} reads past its buffer view", a.index())));
+            return Err(err(format!(
+                "accessor {} reads past its buffer view",
+                a.index()
+            )));
         }
     }
     let mut mesh = TriMesh {
@@ -141,16 +147,29 @@ fn add_mesh(
         let Some(positions) = reader.read_positions() else {
             continue;
         };
-        let positions: Vec<Vec3> = positions.map(|p| world.transform_point3(Vec3::from(p))).collect();
+        let positions: Vec<Vec3> = positions
+            .map(|p| world.transform_point3(Vec3::from(p)))
+            .collect();
         let n = positions.len();
         let indices: Vec<u32> = match reader.read_indices() {
             Some(i) => i.into_u32().collect(),
             None => (0..n as u32).collect(),
         };
         if let Some(&bad) = indices.iter().find(|&&i| i as usize >= n) {
-            return Err(err(format!("index {bad} is past its primitive's {n} positions")));
+            return Err(err(format!(
+                "index {bad} is past its primitive's {n} positions"
+            )));
         }
-        let mut tris: Vec<u32> = indices.chunks_exact(3).flat_map(|t| if flip { [t[0], t[2], t[1]] } else { [t[0], t[1], t[2]] }).collect();
+        let mut tris: Vec<u32> = indices
+            .chunks_exact(3)
+            .flat_map(|t| {
+                if flip {
+                    [t[0], t[2], t[1]]
+                } else {
+                    [t[0], t[1], t[2]]
+                }
+            })
+            .collect();
         if positions.iter().any(|p| !p.is_finite()) {
             return Err(err("a position is not finite"));
         }
@@ -161,7 +180,12 @@ fn add_mesh(
                 if ns.len() == n {
                     ns.iter()
                         .zip(&faces)
-                        .map(|(v, f)| normal_matrix.transform_vector3(*v).try_normalize().unwrap_or(*f))
+                        .map(|(v, f)| {
+                            normal_matrix
+                                .transform_vector3(*v)
+                                .try_normalize()
+                                .unwrap_or(*f)
+                        })
                         .collect()
                 } else {
                     faces
@@ -169,7 +193,8 @@ fn add_mesh(
             }
             None => faces,
         };
-        let base = u32::try_from(out.positions.len()).map_err(|_| err("more than 2^32 vertices"))?;
+        let base =
+            u32::try_from(out.positions.len()).map_err(|_| err("more than 2^32 vertices"))?;
         for t in &mut tris {
             *t += base;
         }

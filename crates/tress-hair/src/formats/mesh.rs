@@ -13,7 +13,10 @@ pub const MESH_EXTENSIONS: &str = ".obj, .gltf, .glb, .usda, .usdc, .usdz and .u
 
 /// Whether `path` has a mesh extension.
 pub fn is_mesh_path(path: &Path) -> bool {
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
     matches!(
         ext.as_deref(),
         Some("obj" | "gltf" | "glb" | "usda" | "usdc" | "usdz" | "usd")
@@ -22,7 +25,10 @@ pub fn is_mesh_path(path: &Path) -> bool {
 
 /// Read a head or body mesh, its format chosen by extension; errors name the file.
 pub fn read_mesh(path: &Path) -> Result<TriMesh, HairError> {
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("obj") => TriMesh::read_obj(path),
         Some("gltf" | "glb") => super::gltf::read_gltf_path(path),

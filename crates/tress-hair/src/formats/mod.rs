@@ -209,7 +209,10 @@ impl Format {
             Format::Usdc | Format::Usd => write_usd(asset, UsdFlavor::Binary),
             Format::Usdz | Format::Abc | Format::Ct2Hair => Err(HairError::format(
                 "hair file",
-                format!("tress reads {} but does not write it; it writes {WRITES}", self.name()),
+                format!(
+                    "tress reads {} but does not write it; it writes {WRITES}",
+                    self.name()
+                ),
             )),
         }
     }
@@ -279,12 +282,17 @@ pub fn read_path(path: &Path) -> Result<HairAsset, HairError> {
 pub fn load_path(path: &Path, options: &ReadOptions) -> Result<Loaded, HairError> {
     let format = Format::from_path(path)?;
     options.validate()?;
-    if matches!(format, Format::Usda | Format::Usdc | Format::Usdz | Format::Usd) {
+    if matches!(
+        format,
+        Format::Usda | Format::Usdc | Format::Usdz | Format::Usd
+    ) {
         let c = read_usd(path, options).map_err(|e| e.in_file(path))?;
         return usd_loaded(format, c).map_err(|e| e.in_file(path));
     }
     let bytes = std::fs::read(path).map_err(|e| HairError::from(e).in_file(path))?;
-    format.read_with(&bytes, options).map_err(|e| e.in_file(path))
+    format
+        .read_with(&bytes, options)
+        .map_err(|e| e.in_file(path))
 }
 
 /// Write a hair file, its format chosen by extension. Errors read `path: problem`.
@@ -317,7 +325,9 @@ pub fn load_paths(
         found.push((l.format, l.details));
     }
     let asset = if assets.len() == 1 {
-        assets.pop().ok_or_else(|| HairError::Parameter("no hair files given".into()))?
+        assets
+            .pop()
+            .ok_or_else(|| HairError::Parameter("no hair files given".into()))?
     } else {
         HairAsset::merge(&assets)?
     };

@@ -54,7 +54,9 @@ pub fn read_data(bytes: &[u8]) -> Result<(HairAsset, DataInfo), HairError> {
     let mut info = DataInfo::default();
     for i in 0..strands as usize {
         let n = i32_at(bytes, at).ok_or_else(|| {
-            err(format!("truncated: strand {i} of {strands} has no vertex count"))
+            err(format!(
+                "truncated: strand {i} of {strands} has no vertex count"
+            ))
         })?;
         let left = (bytes.len() - at - 4) as u64 / 12;
         if n < 0 || n as u64 > left {

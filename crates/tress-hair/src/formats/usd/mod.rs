@@ -23,12 +23,20 @@
 //! `HermiteCurves`, `normals`, other primvars) is ignored. A composition error (an arc cycle, a
 //! missing layer) is an error naming it.
 //!
+//! # Validation
+//!
+//! openusd 0.6 trusts the counts in `.usdc` files; a `.usdc` file given to tress is first
+//! checked by `usdc_check` (counts against the file's size, see there), and a panic inside
+//! openusd becomes an error. Layers reached through references and the layer inside a `.usdz`
+//! package are not pre-checked (see ARCHITECTURE.md).
+//!
 //! # Writing
 //!
 //! [`write_usd`] writes one linear `BasisCurves` prim `/Hair` with `widths` and
 //! `primvars:displayColor` per vertex, `primvars:displayOpacity` when the asset has
 //! transparency, and uniform `primvars:st` for strand UVs, as `.usda` text or `.usdc` binary.
 
+mod usdc_check;
 mod write;
 
 use std::collections::HashMap;
@@ -94,7 +102,11 @@ struct MemoryResolver {
 }
 
 impl openusd::ar::Resolver for MemoryResolver {
-    fn create_identifier(&self, asset_path: &str, _anchor: Option<&openusd::ar::ResolvedPath>) -> String {
+    fn create_identifier(
+        &self,
+        asset_path: &str,
+        _anchor: Option<&openusd::ar::ResolvedPath>,
+    ) -> String {
         asset_path.to_string()
     }
     fn resolve(&self, asset_path: &str) -> Option<openusd::ar::ResolvedPath> {
@@ -110,7 +122,10 @@ impl openusd::ar::Resolver for MemoryResolver {
         if resolved.to_str() == Some(self.name.as_str()) {
             Ok(Box::new(std::io::Cursor::new(self.bytes.clone())))
         } else {
-            Err(std::io::Error::new(std::io::ErrorKind::NotFound, "only the file itself is available"))
+            Err(std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                "only the file itself is available",
+            ))
         }
     }
     fn get_modification_timestamp(
@@ -128,24 +143,63 @@ pub fn read_usd(path: &Path, options: &ReadOptions) -> Result<UsdContents, HairE
         .to_str()
         .ok_or_else(|| err("the file name is not UTF-8"))?;
     // openusd reports a missing file as an unresolvable asset; say it plainly.
-    std::fs::metadata(path).map_err(HairError::from)?;
-    let stage = Stage::open(name).map_err(|e| err(format!("{e:#}")))?;
-    contents(&stage, options)
+    let bytes = std::fs::read(path).map_err(HairError::from)?;
+    check_crate(&bytes)?;
+    guarded(|| {
+        let stage = Stage::open(name).map_err(|e| err(format!("{e:#}")))?;
+        contents(&stage, options)
+    })
+}
+
+/// Run openusd, turning a panic inside it (it has `todo!()`s on some malformed inputs) into an
+/// error.
+fn guarded<T>(f: impl FnOnce() -> Result<T, HairError>) -> Result<T, HairError> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|panic| {
+        let what = panic
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| panic.downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        Err(err(format!("openusd could not read the file ({what})")))
+    })
+}
+
+/// [`usdc_check::check`] for binary files (text and packages pass through).
+fn check_crate(bytes: &[u8]) -> Result<(), HairError> {
+    if bytes.starts_with(b"PXR-USDC") {
+        usdc_check::check(bytes).map_err(err)?;
+    }
+    Ok(())
 }
 
 /// Read a USD file from memory; `extension` (`usda`, `usdc` or `usdz`) says which flavour it is.
 /// References to other files cannot resolve.
-pub fn read_usd_bytes(bytes: &[u8], extension: &str, options: &ReadOptions) -> Result<UsdContents, HairError> {
+pub fn read_usd_bytes(
+    bytes: &[u8],
+    extension: &str,
+    options: &ReadOptions,
+) -> Result<UsdContents, HairError> {
     let name = format!("memory.{extension}");
+    if extension == "usdc" {
+        if !bytes.starts_with(b"PXR-USDC") {
+            return Err(err(format!(
+                "not a .usdc file: it starts with \"{}\" instead of \"PXR-USDC\"",
+                bytes[..bytes.len().min(8)].escape_ascii()
+            )));
+        }
+        usdc_check::check(bytes).map_err(err)?;
+    }
     let resolver = MemoryResolver {
         name: name.clone(),
         bytes: bytes.to_vec(),
     };
-    let stage = Stage::builder()
-        .resolver(resolver)
-        .open(&name)
-        .map_err(|e| err(format!("{e:#}")))?;
-    contents(&stage, options)
+    guarded(|| {
+        let stage = Stage::builder()
+            .resolver(resolver)
+            .open(&name)
+            .map_err(|e| err(format!("{e:#}")))?;
+        contents(&stage, options)
+    })
 }
 
 /// The head/body mesh of a USD file: every `Mesh` prim merged, in world space.
@@ -226,7 +280,10 @@ fn world_transform(
     };
     let world = parent * local;
     if !world.is_finite() {
-        return Err(err(format!("{}: the world transform is not finite", path.as_str())));
+        return Err(err(format!(
+            "{}: the world transform is not finite",
+            path.as_str()
+        )));
     }
     cache.insert(path.as_str().to_string(), world);
     Ok(world)
@@ -277,7 +334,10 @@ fn floats(v: Value, what: &str) -> Result<Vec<f64>, HairError> {
 fn vec3s(v: Value, what: &str) -> Result<Vec<Vec3>, HairError> {
     Ok(match v {
         Value::Vec3fVec(v) => v.into_iter().map(|p| Vec3::new(p.x, p.y, p.z)).collect(),
-        Value::Vec3dVec(v) => v.into_iter().map(|p| Vec3::new(p.x as f32, p.y as f32, p.z as f32)).collect(),
+        Value::Vec3dVec(v) => v
+            .into_iter()
+            .map(|p| Vec3::new(p.x as f32, p.y as f32, p.z as f32))
+            .collect(),
         Value::Vec3hVec(v) => v
             .into_iter()
             .map(|p| Vec3::new(p.x.to_f32(), p.y.to_f32(), p.z.to_f32()))
@@ -288,11 +348,18 @@ fn vec3s(v: Value, what: &str) -> Result<Vec<Vec3>, HairError> {
 
 fn kind_of(v: &Value) -> String {
     let s = format!("{v:?}");
-    s.split(['(', ' ', '{']).next().unwrap_or("a value").to_string()
+    s.split(['(', ' ', '{'])
+        .next()
+        .unwrap_or("a value")
+        .to_string()
 }
 
 fn interp_of(prim: &Prim, name: &str) -> Option<Interp> {
-    let v = prim.attribute(name).get_metadata::<Value>("interpolation").ok().flatten();
+    let v = prim
+        .attribute(name)
+        .get_metadata::<Value>("interpolation")
+        .ok()
+        .flatten();
     match v {
         Some(Value::Token(t)) => match t.as_str() {
             "constant" => Some(Interp::Constant),
@@ -364,7 +431,11 @@ fn curve_set(prim: &Prim, ty: &str, path: &str, world: DMat4) -> Result<CurveSet
             None => None,
         };
         if orders.len() != counts.len() {
-            return Err(err(format!("{path}: {} orders for {} curves", orders.len(), counts.len())));
+            return Err(err(format!(
+                "{path}: {} orders for {} curves",
+                orders.len(),
+                counts.len()
+            )));
         }
         Shape::Nurbs {
             orders,
@@ -389,7 +460,11 @@ fn curve_set(prim: &Prim, ty: &str, path: &str, world: DMat4) -> Result<CurveSet
                 };
                 Shape::Cubic(basis, wrap)
             }
-            other => return Err(err(format!("{path}: type `{other}` is not linear or cubic"))),
+            other => {
+                return Err(err(format!(
+                    "{path}: type `{other}` is not linear or cubic"
+                )));
+            }
         }
     };
     let to_f32 = |v: Value, w: &str| Ok(floats(v, w)?.into_iter().map(|x| x as f32).collect());
@@ -398,14 +473,20 @@ fn curve_set(prim: &Prim, ty: &str, path: &str, world: DMat4) -> Result<CurveSet
         None => primvar(prim, "primvars:widths", to_f32)?,
     };
     let colors = primvar(prim, "primvars:displayColor", vec3s)?;
+    let opacity = primvar(prim, "primvars:displayOpacity", to_f32)?;
     let strand_uv = match primvar(prim, "primvars:st", |v, w| {
         Ok(match v {
             Value::Vec2fVec(v) => v.into_iter().map(|p| Vec2::new(p.x, p.y)).collect(),
-            Value::Vec2dVec(v) => v.into_iter().map(|p| Vec2::new(p.x as f32, p.y as f32)).collect(),
+            Value::Vec2dVec(v) => v
+                .into_iter()
+                .map(|p| Vec2::new(p.x as f32, p.y as f32))
+                .collect(),
             other => return Err(err(format!("{w} is {}, not 2-vectors", kind_of(&other)))),
         })
     })? {
-        Some(st) if st.interp == Some(Interp::Uniform) && st.values.len() == counts.len() => Some(st.values),
+        Some(st) if st.interp == Some(Interp::Uniform) && st.values.len() == counts.len() => {
+            Some(st.values)
+        }
         _ => None,
     };
     Ok(CurveSet {
@@ -415,6 +496,7 @@ fn curve_set(prim: &Prim, ty: &str, path: &str, world: DMat4) -> Result<CurveSet
         shape,
         widths,
         colors,
+        opacity,
         strand_uv,
         skip: None,
         world,
@@ -446,7 +528,10 @@ fn mesh(prim: &Prim, path: &str, world: DMat4) -> Result<TriMesh, HairError> {
         )));
     }
     if let Some(&bad) = indices.iter().find(|&&i| i as usize >= positions.len()) {
-        return Err(err(format!("{path}: face index {bad} is past its {} points", positions.len())));
+        return Err(err(format!(
+            "{path}: face index {bad} is past its {} points",
+            positions.len()
+        )));
     }
     let mut tris = Vec::with_capacity(indices.len() * 3);
     let mut at = 0usize;
@@ -462,7 +547,10 @@ fn mesh(prim: &Prim, path: &str, world: DMat4) -> Result<TriMesh, HairError> {
         }
     }
     let m = world.as_mat4();
-    let positions: Vec<Vec3> = positions.into_iter().map(|p| m.transform_point3(p)).collect();
+    let positions: Vec<Vec3> = positions
+        .into_iter()
+        .map(|p| m.transform_point3(p))
+        .collect();
     if positions.iter().any(|p| !p.is_finite()) {
         return Err(err(format!("{path}: a point is not finite")));
     }

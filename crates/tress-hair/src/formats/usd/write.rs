@@ -33,13 +33,22 @@ pub fn write_usd(asset: &HairAsset, flavor: UsdFlavor) -> Result<Vec<u8>, HairEr
         .map_err(|_| err("a strand has more than 2^31 vertices"))?;
     let mut data = sdf::Data::new();
     let root = data.create_spec(sdf::Path::abs_root(), SpecType::PseudoRoot);
-    root.add(ChildrenKey::PrimChildren, Value::TokenVec(vec!["Hair".into()]));
+    root.add(
+        ChildrenKey::PrimChildren,
+        Value::TokenVec(vec!["Hair".into()]),
+    );
     root.add(FieldKey::DefaultPrim, Value::Token("Hair".into()));
     root.add("upAxis", Value::Token("Y".into()));
 
     let hair = sdf::path("/Hair").map_err(|e| err(format!("{e:#}")))?;
     let mut props: Vec<(&str, &str, Value, Option<&str>, bool)> = vec![
-        ("curveVertexCounts", "int[]", Value::IntVec(counts), None, false),
+        (
+            "curveVertexCounts",
+            "int[]",
+            Value::IntVec(counts),
+            None,
+            false,
+        ),
         (
             "points",
             "point3f[]",
@@ -50,15 +59,33 @@ pub fn write_usd(asset: &HairAsset, flavor: UsdFlavor) -> Result<Vec<u8>, HairEr
         ("type", "token", Value::Token("linear".into()), None, true),
     ];
     if let Some(t) = asset.thickness() {
-        props.push(("widths", "float[]", Value::FloatVec(t.to_vec()), Some("vertex"), false));
+        props.push((
+            "widths",
+            "float[]",
+            Value::FloatVec(t.to_vec()),
+            Some("vertex"),
+            false,
+        ));
     }
     if let Some(c) = asset.color() {
         let v = Value::Vec3fVec(c.iter().map(|&p| vec3f(p)).collect());
-        props.push(("primvars:displayColor", "color3f[]", v, Some("vertex"), false));
+        props.push((
+            "primvars:displayColor",
+            "color3f[]",
+            v,
+            Some("vertex"),
+            false,
+        ));
     }
     if let Some(t) = asset.transparency() {
         let v = Value::FloatVec(t.iter().map(|x| 1.0 - x).collect());
-        props.push(("primvars:displayOpacity", "float[]", v, Some("vertex"), false));
+        props.push((
+            "primvars:displayOpacity",
+            "float[]",
+            v,
+            Some("vertex"),
+            false,
+        ));
     }
     if let Some(uv) = asset.strand_uv() {
         let v = Value::Vec2fVec(uv.iter().map(|p| gf::Vec2f { x: p.x, y: p.y }).collect());
@@ -72,12 +99,17 @@ pub fn write_usd(asset: &HairAsset, flavor: UsdFlavor) -> Result<Vec<u8>, HairEr
         Value::TokenVec(props.iter().map(|p| p.0.into()).collect()),
     );
     for (name, type_name, value, interpolation, uniform) in props {
-        let path = hair.append_property(name).map_err(|e| err(format!("{e:#}")))?;
+        let path = hair
+            .append_property(name)
+            .map_err(|e| err(format!("{e:#}")))?;
         let attr = data.create_spec(path, SpecType::Attribute);
         attr.add(FieldKey::TypeName, Value::Token(type_name.into()));
         attr.add(FieldKey::Default, value);
         if uniform {
-            attr.add(FieldKey::Variability, Value::Variability(sdf::Variability::Uniform));
+            attr.add(
+                FieldKey::Variability,
+                Value::Variability(sdf::Variability::Uniform),
+            );
         }
         if let Some(i) = interpolation {
             attr.add("interpolation", Value::Token(i.into()));
