@@ -64,3 +64,13 @@ fn lying_gltf_files_are_errors() {
     let e = read_mesh(&data("groom.abc")).unwrap_err().to_string();
     assert!(e.contains("unknown mesh extension"), "{e}");
 }
+
+#[test]
+fn fuzz_findings_are_errors() {
+    // read_gltf-1: float indices, which the gltf crate's reader treats as unreachable.
+    let input = std::fs::read(data("fuzz/read_gltf-1")).unwrap();
+    assert!(read_gltf(&input, None).is_err());
+    // read_gltf-2: an accessor index past the accessors, on which gltf-json's validation panics.
+    let input = std::fs::read(data("fuzz/read_gltf-2")).unwrap();
+    assert!(read_gltf(&input, None).is_err());
+}

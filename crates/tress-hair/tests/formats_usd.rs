@@ -153,3 +153,15 @@ proptest! {
         let _ = read_usd_bytes(&bytes, "usdc", &ReadOptions::default());
     }
 }
+
+#[test]
+fn fuzz_findings_are_errors() {
+    // read_usd-1: a token vector claiming 2^60 tokens (openusd allocated it unchecked).
+    let input = std::fs::read(data("fuzz/read_usd-1")).unwrap();
+    let ext = ["usda", "usdc", "usdz"][usize::from(input[0] % 3)];
+    assert!(read_usd_bytes(&input[1..], ext, &ReadOptions::default()).is_err());
+    // read_usd-2: a token index past the token table; openusd panics, which becomes an error.
+    let input = std::fs::read(data("fuzz/read_usd-2")).unwrap();
+    let ext = ["usda", "usdc", "usdz"][usize::from(input[0] % 3)];
+    assert!(read_usd_bytes(&input[1..], ext, &ReadOptions::default()).is_err());
+}

@@ -31,7 +31,12 @@ fn err(reason: impl std::fmt::Display) -> HairError {
 /// Read a glTF or GLB mesh from memory. `base_dir` is where external buffers (`uri` paths)
 /// are looked up; `None` refuses them.
 pub fn read_gltf(bytes: &[u8], base_dir: Option<&Path>) -> Result<TriMesh, HairError> {
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(err)?;
+    // gltf-json 1.4's validation indexes accessors unchecked on some invalid files (found by
+    // fuzzing): its panic becomes an error.
+    let parsed = std::panic::catch_unwind(|| gltf::Gltf::from_slice(bytes));
+    let gltf = parsed
+        .map_err(|_| err("the file's references are out of range (the gltf crate panicked)"))?
+        .map_err(err)?;
     let mut buffers = Vec::new();
     for b in gltf.buffers() {
         let data = match b.source() {
@@ -142,6 +147,27 @@ fn add_mesh(
     for prim in mesh.primitives() {
         if prim.mode() != gltf::mesh::Mode::Triangles {
             continue;
+        }
+        // gltf's reader assumes the component types the specification requires and reaches
+        // `unreachable!` otherwise: check them first.
+        use gltf::accessor::{DataType, Dimensions};
+        let position = prim.get(&gltf::Semantic::Positions);
+        if position
+            .as_ref()
+            .is_some_and(|a| a.data_type() != DataType::F32 || a.dimensions() != Dimensions::Vec3)
+        {
+            return Err(err("POSITION is not float VEC3"));
+        }
+        if let Some(n) = prim.get(&gltf::Semantic::Normals)
+            && (n.data_type() != DataType::F32 || n.dimensions() != Dimensions::Vec3)
+        {
+            return Err(err("NORMAL is not float VEC3"));
+        }
+        if let Some(i) = prim.indices()
+            && (!matches!(i.data_type(), DataType::U8 | DataType::U16 | DataType::U32)
+                || i.dimensions() != Dimensions::Scalar)
+        {
+            return Err(err("the indices are not unsigned integer scalars"));
         }
         let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
         let Some(positions) = reader.read_positions() else {

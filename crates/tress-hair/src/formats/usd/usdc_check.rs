@@ -15,7 +15,9 @@
 //! - a compressed block is a `u64` size and that many bytes, the first of which (the chunk count
 //!   of Pixar's `TfFastCompression`) must be 0;
 //! - every array value of a field (a value representation with the array bit set and not
-//!   inlined) has its element count at its offset, checked against the bytes after it.
+//!   inlined) has its element count at its offset, checked against the bytes after it; so do
+//!   dictionaries, token / path / string / double / layer-offset vectors and list ops. Time
+//!   samples are not followed.
 //!
 //! Counts of compressed integers may exceed their bytes (integer coding and LZ4 together pack up
 //! to about a thousand values a byte), so they are bounded by [`PACKED`] values per byte.
@@ -204,7 +206,26 @@ fn check_arrays(
         let (array, inlined, compressed) =
             (rep >> 63 & 1 == 1, rep >> 62 & 1 == 1, rep >> 61 & 1 == 1);
         let payload = rep & ((1 << 48) - 1);
-        if !array || inlined || payload == 0 {
+        let kind = (rep >> 48) & 0xff;
+        if inlined || payload == 0 {
+            continue;
+        }
+        if !array {
+            // Non-array values that start with an element count: dictionaries (31), path,
+            // token, double, layer-offset and string vectors (40, 41, 48, 49, 50), variant
+            // selections (45); list ops (32–39, 54, 55) start with a header byte.
+            let at = match kind {
+                31 | 40 | 41 | 45 | 48..=50 => payload,
+                32..=39 | 54 | 55 => payload + 1,
+                _ => continue,
+            };
+            let n = u64_at(bytes, at)?;
+            let after = len.saturating_sub(at + 8);
+            if n > after {
+                return Err(format!(
+                    "a value at byte {payload} claims {n} elements but the file has {after} bytes after it"
+                ));
+            }
             continue;
         }
         let mut at = payload;
