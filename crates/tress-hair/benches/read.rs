@@ -1,12 +1,18 @@
 //! Reader throughput: a 136k-strand × 16-vertex asset (the scale of the paper's test models) read
-//! from memory as `.hair` and as `.tfx` 4.x. Run with `cargo bench -p tress-hair --bench read`;
-//! divan reports bytes per second of file read.
+//! from memory as `.hair`, `.tfx` 4.x, `.usdc` (written by our USD writer through openusd),
+//! `.abc` (written by `tress-alembic`'s minimal Ogawa writer) and `.data`. Run with
+//! `cargo bench -p tress-hair --bench read`; divan reports bytes per second of file read.
 
 use divan::counter::BytesCount;
 use divan::{Bencher, black_box};
 use glam::{Vec2, Vec3};
+use tress_alembic::Scope;
+use tress_alembic::write::{CurvesOut, write};
 use tress_hair::HairAsset;
-use tress_hair::formats::{read_hair, read_tfx, write_hair, write_tfx};
+use tress_hair::formats::{
+    ReadOptions, UsdFlavor, read_abc, read_data, read_hair, read_tfx, read_usd_bytes, write_data,
+    write_hair, write_tfx, write_usd,
+};
 
 const STRANDS: usize = 136_000;
 const VERTICES: usize = 16;
@@ -64,4 +70,64 @@ fn tfx_v4(bencher: Bencher<'_, '_>) {
     bencher
         .counter(BytesCount::of_slice(&bytes))
         .bench(|| read_tfx(black_box(&bytes)).expect("readable"));
+}
+
+fn with_thickness(a: HairAsset) -> HairAsset {
+    let n = a.vertex_count();
+    a.with_thickness((0..n).map(|i| 0.01 + (i % 16) as f32 * 1e-4).collect())
+        .expect("valid thickness")
+}
+
+#[divan::bench]
+fn hair_thickness(bencher: Bencher<'_, '_>) {
+    let bytes = write_hair(&with_thickness(asset())).expect("writable");
+    bencher
+        .counter(BytesCount::of_slice(&bytes))
+        .bench(|| read_hair(black_box(&bytes)).expect("readable"));
+}
+
+#[divan::bench(args = [false, true])]
+fn usdc(bencher: Bencher<'_, '_>, widths: bool) {
+    let a = if widths {
+        with_thickness(asset())
+    } else {
+        asset()
+    };
+    let bytes = write_usd(&a, UsdFlavor::Binary).expect("writable");
+    let options = ReadOptions::default();
+    bencher.counter(BytesCount::of_slice(&bytes)).bench(|| {
+        read_usd_bytes(black_box(&bytes), "usdc", &options)
+            .expect("readable")
+            .hair
+            .expect("curves")
+    });
+}
+
+#[divan::bench(args = [false, true])]
+fn abc(bencher: Bencher<'_, '_>, widths: bool) {
+    let a = if widths {
+        with_thickness(asset())
+    } else {
+        asset()
+    };
+    let curves = CurvesOut {
+        name: "hair".into(),
+        positions: a.positions().iter().map(|p| p.to_array()).collect(),
+        vertex_counts: a.vertex_counts().map(|c| c as i32).collect(),
+        widths: a.thickness().map(|t| (Scope::Vertex, t.to_vec())),
+        ..CurvesOut::default()
+    };
+    let bytes = write(&[curves]);
+    let options = ReadOptions::default();
+    bencher
+        .counter(BytesCount::of_slice(&bytes))
+        .bench(|| read_abc(black_box(&bytes), &options).expect("readable"));
+}
+
+#[divan::bench]
+fn data(bencher: Bencher<'_, '_>) {
+    let bytes = write_data(&asset()).expect("writable");
+    bencher
+        .counter(BytesCount::of_slice(&bytes))
+        .bench(|| read_data(black_box(&bytes)).expect("readable"));
 }

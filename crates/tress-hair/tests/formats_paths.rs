@@ -118,11 +118,13 @@ fn errors_name_the_file() {
     // Writing: an unknown extension, a format that cannot hold the asset, an unwritable path.
     let a = asset(1, 3, 0.0);
     assert!(
-        write_path(&dir.join("x.abc"), &a)
+        write_path(&dir.join("x.fbx"), &a)
             .unwrap_err()
             .to_string()
             .contains("unknown extension")
     );
+    let e = write_path(&dir.join("x.abc"), &a).unwrap_err().to_string();
+    assert!(e.contains("x.abc") && e.contains("does not write"), "{e}");
     let uneven = HairAsset::from_counts(vec![Vec3::ZERO; 5], &[2, 3]).unwrap();
     let out = dir.join("uneven.tfx");
     let e = write_path(&out, &uneven).unwrap_err().to_string();

@@ -41,14 +41,19 @@ impl PreparedScene {
     /// Load the scene's hair and head and convert its settings. Errors name the file or key.
     pub fn load(scene: &Scene) -> Result<PreparedScene, RenderError> {
         let settings = Self::load_settings(scene)?;
-        let assets = scene.load_hair().map_err(scene_error)?;
+        let (assets, hair_mesh) = scene.load_hair_and_meshes().map_err(scene_error)?;
         let hair = if assets.is_empty() {
             None
         } else {
             Some(HairAsset::merge(&assets).map_err(|e| RenderError::Invalid(e.to_string()))?)
         };
         let head = match scene.head_source() {
-            HeadSource::None => None,
+            // USD grooms often carry the head they were groomed on.
+            HeadSource::None => hair_mesh.map(|m| HeadMesh {
+                positions: m.positions,
+                normals: m.normals,
+                indices: m.indices,
+            }),
             HeadSource::Obj(path) => Some(read_obj_mesh(&path)?),
             HeadSource::Generated(head) => {
                 let m = head.mesh(64);
@@ -308,12 +313,12 @@ pub fn hybrid_settings(scene: &Scene) -> Result<HybridSettings, RenderError> {
     Ok(s)
 }
 
-/// Read a head mesh from an OBJ file ([`tress_hair::generate::TriMesh::read_obj`]: faces
-/// triangulated, normals from the file or the faces, hostile indices rejected). Errors name the
-/// file.
+/// Read a head mesh from an OBJ, glTF (`.gltf`, `.glb`) or USD file
+/// ([`tress_hair::formats::read_mesh`]: faces triangulated, normals from the file or the faces,
+/// hostile indices rejected). Errors name the file.
 pub fn read_obj_mesh(path: &Path) -> Result<HeadMesh, RenderError> {
-    let m = tress_hair::generate::TriMesh::read_obj(path)
-        .map_err(|e| RenderError::Invalid(e.to_string()))?;
+    let m =
+        tress_hair::formats::read_mesh(path).map_err(|e| RenderError::Invalid(e.to_string()))?;
     let mesh = HeadMesh {
         positions: m.positions,
         normals: m.normals,

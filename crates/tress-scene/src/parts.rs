@@ -185,8 +185,9 @@ impl Light {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct HairSpec {
-    /// Hair files (`.tfx`, `.hair`), merged in order; relative paths are relative to the scene
-    /// file's folder. Give either `files` or `generator`.
+    /// Hair files (`.hair`, `.tfx`, `.usda`/`.usdc`/`.usdz`/`.usd`, `.abc`, `.data`, `.bin`),
+    /// merged in order; relative paths are relative to the scene file's folder. Give either
+    /// `files` or `generator`.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub files: Vec<PathBuf>,
     /// A procedural style instead of files.
@@ -201,6 +202,10 @@ pub struct HairSpec {
     pub strand_ratio: f32,
     /// Shading parameters.
     pub material: Material,
+    /// Segments per span when cubic or NURBS curves (USD, Alembic) are tessellated (1 to 64;
+    /// unset: 4).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cubic_segments: Option<u32>,
 }
 
 impl Default for HairSpec {
@@ -214,6 +219,7 @@ impl Default for HairSpec {
             follow: None,
             strand_ratio: 1.0,
             material: Material::default(),
+            cubic_segments: None,
         }
     }
 }
@@ -251,6 +257,17 @@ impl HairSpec {
             return Err(SceneError::invalid(
                 format!("{key}.strand_ratio"),
                 format!("must lie in (0, 1], got {}", self.strand_ratio),
+            ));
+        }
+        if let Some(n) = self.cubic_segments
+            && !(1..=tress_hair::formats::curves::MAX_CUBIC_SEGMENTS).contains(&n)
+        {
+            return Err(SceneError::invalid(
+                format!("{key}.cubic_segments"),
+                format!(
+                    "must be 1 to {}, got {n}",
+                    tress_hair::formats::curves::MAX_CUBIC_SEGMENTS
+                ),
             ));
         }
         self.material.validate(&format!("{key}.material"))
@@ -512,8 +529,9 @@ mod follow_radius {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct HeadSpec {
-    /// An OBJ mesh file.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    /// A head or body mesh file: OBJ, glTF (`.gltf`, `.glb`) or USD (its `Mesh` prims). The key
+    /// is `obj` or `mesh`.
+    #[serde(skip_serializing_if = "Option::is_none", alias = "mesh")]
     pub obj: Option<PathBuf>,
     /// Whether to draw the generated ellipsoid head (default: when no `obj` is given).
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -8,7 +8,7 @@ use glam::Vec3;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use toml::de::{DeTable, ValueDeserializer};
-use tress_hair::generate::{self, Head, Style};
+use tress_hair::generate::{self, Head, Style, TriMesh};
 use tress_hair::{HairAsset, HairError, formats};
 
 use crate::SceneError;
@@ -116,7 +116,8 @@ impl fmt::Debug for Origin {
 pub enum HeadSource {
     /// No head.
     None,
-    /// An OBJ mesh at this path (resolved against the scene's folder).
+    /// A mesh file at this path (resolved against the scene's folder): OBJ, glTF or USD, read
+    /// with [`tress_hair::formats::read_mesh`].
     Obj(PathBuf),
     /// The generated ellipsoid.
     Generated(Head),
@@ -292,14 +293,34 @@ impl Scene {
     /// then follow hairs, then the `strand_ratio` subset (seed 0), then the transform (which also
     /// scales per-vertex thickness by `scale`). Errors name the entry.
     pub fn load_hair(&self) -> Result<Vec<HairAsset>, SceneError> {
-        self.hair
-            .iter()
-            .enumerate()
-            .map(|(index, spec)| self.load_one(spec).map_err(|e| e.at_hair(index)))
-            .collect()
+        Ok(self.load_hair_and_meshes()?.0)
     }
 
-    fn load_one(&self, spec: &HairSpec) -> Result<HairAsset, LoadError> {
+    /// [`Scene::load_hair`], and the `Mesh` prims that came in USD hair files (merged, world
+    /// space, before the entries' transforms; `None` when there were none).
+    pub fn load_hair_and_meshes(&self) -> Result<(Vec<HairAsset>, Option<TriMesh>), SceneError> {
+        let mut assets = Vec::with_capacity(self.hair.len());
+        let mut mesh: Option<TriMesh> = None;
+        for (index, spec) in self.hair.iter().enumerate() {
+            let (asset, found) = self.load_one(spec).map_err(|e| e.at_hair(index))?;
+            assets.push(asset);
+            for m in found {
+                match &mut mesh {
+                    None => mesh = Some(m),
+                    Some(all) => {
+                        let base = all.positions.len() as u32;
+                        all.positions.extend(m.positions);
+                        all.normals.extend(m.normals);
+                        all.indices.extend(m.indices.iter().map(|i| i + base));
+                    }
+                }
+            }
+        }
+        Ok((assets, mesh))
+    }
+
+    fn load_one(&self, spec: &HairSpec) -> Result<(HairAsset, Vec<TriMesh>), LoadError> {
+        let mut meshes = Vec::new();
         let mut asset = match &spec.generator {
             Some(g) if spec.files.is_empty() => {
                 let (style, params) = g.style_params().map_err(LoadError::Scene)?;
@@ -307,7 +328,13 @@ impl Scene {
             }
             _ => {
                 let paths: Vec<PathBuf> = spec.files.iter().map(|p| self.resolve(p)).collect();
-                formats::read_paths(&paths)?
+                let defaults = formats::ReadOptions::default();
+                let options = formats::ReadOptions {
+                    cubic_segments: spec.cubic_segments.unwrap_or(defaults.cubic_segments),
+                };
+                let (asset, found) = formats::load_paths(&paths, &options)?;
+                meshes.extend(found.into_iter().filter_map(|(_, d)| d.mesh));
+                asset
             }
         };
         if let Some(follow) = &spec.follow {
@@ -323,8 +350,18 @@ impl Scene {
                 let scaled = t.iter().map(|x| x * scale).collect();
                 asset = asset.with_thickness(scaled)?;
             }
+            // A uniform scale and a rotation: normals turn with the rotation alone.
+            let affine = spec.transform.affine();
+            for m in &mut meshes {
+                for p in &mut m.positions {
+                    *p = affine.transform_point3(*p);
+                }
+                for n in &mut m.normals {
+                    *n = affine.transform_vector3(*n).normalize_or(*n);
+                }
+            }
         }
-        Ok(asset)
+        Ok((asset, meshes))
     }
 }
 

@@ -41,7 +41,7 @@ pub(crate) struct Args {
     /// Seed of the ray directions.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// A head mesh (OBJ) that occludes too.
+    /// A head mesh that occludes too (OBJ, glTF `.gltf`/`.glb` or USD `Mesh` prims).
     #[arg(long, conflicts_with = "generated_head")]
     head_obj: Option<PathBuf>,
     /// The default generated head occludes too (always on without an input).
@@ -93,7 +93,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
     };
     let head: Option<TriMesh> = match (&args.head_obj, args.generated_head || args.input.is_none())
     {
-        (Some(path), _) => Some(TriMesh::read_obj(path)?),
+        (Some(path), _) => Some(tress_hair::formats::read_mesh(path)?),
         (None, true) => Some(Head::default().mesh(64)),
         (None, false) => None,
     };

@@ -17,7 +17,7 @@ use crate::progress;
 /// Arguments of `tress cards`.
 #[derive(clap::Args, Debug)]
 pub(crate) struct Args {
-    /// Hair files (`.hair`, `.tfx`), merged.
+    /// Hair files (`.hair`, `.tfx`, USD, `.abc`, `.data`, `.bin`), merged.
     #[arg(required = true)]
     inputs: Vec<PathBuf>,
     /// Output OBJ file.

@@ -10,8 +10,9 @@ use crate::progress;
 /// Arguments of `tress convert`.
 #[derive(clap::Args, Debug)]
 pub(crate) struct Args {
-    /// Input files, then the output file (the last path). Inputs are merged; the output format
-    /// follows its extension (`.hair` or `.tfx`).
+    /// Input files, then the output file (the last path). Inputs are merged (any format tress
+    /// reads); the output format follows its extension: `.hair`, `.tfx`, `.usda`, `.usdc`, `.usd`
+    /// or `.data`.
     #[arg(required = true, num_args = 2.., value_name = "IN... OUT")]
     paths: Vec<PathBuf>,
     /// Give every strand N follow hairs (TressFX style): strands = inputs × (N + 1).
@@ -29,6 +30,9 @@ pub(crate) struct Args {
     /// Keep this fraction of the strands (deterministic for the seed).
     #[arg(long)]
     strand_ratio: Option<f32>,
+    /// Segments per span when cubic or NURBS curves (USD, Alembic) are tessellated (1 to 64).
+    #[arg(long, default_value_t = tress_hair::formats::ReadOptions::default().cubic_segments)]
+    cubic_segments: u32,
     /// Random seed for follow hairs and strand subsets.
     #[arg(long, default_value_t = 0)]
     seed: u64,
@@ -38,14 +42,24 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let Some((output, inputs)) = args.paths.split_last() else {
         bail!("convert needs at least one input and one output");
     };
-    tress_hair::formats::Format::from_path(output)?;
+    let format = tress_hair::formats::Format::from_path(output)?;
+    if !format.is_writable() {
+        bail!(
+            "{}: tress does not write {}; it writes .hair, .tfx, .usda, .usdc, .usd and .data",
+            output.display(),
+            format.name()
+        );
+    }
     if inputs.contains(output) {
         bail!("{}: output would overwrite an input", output.display());
     }
     let pb = progress::spinner("reading");
-    let hair = tress_hair::formats::read_paths(inputs);
+    let options = tress_hair::formats::ReadOptions {
+        cubic_segments: args.cubic_segments,
+    };
+    let hair = tress_hair::formats::load_paths(inputs, &options);
     pb.finish_and_clear();
-    let mut hair = hair?;
+    let mut hair = hair?.0;
     if let Some(ratio) = args.strand_ratio {
         hair = hair.subset(ratio, args.seed)?;
     }

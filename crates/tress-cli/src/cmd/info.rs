@@ -5,15 +5,20 @@ use std::path::PathBuf;
 use anyhow::Result;
 use serde::Serialize;
 use tress_hair::HairAsset;
+use tress_hair::formats::{Details, Format, ReadOptions};
 
 use crate::progress;
 
 /// Arguments of `tress info`.
 #[derive(clap::Args, Debug)]
 pub(crate) struct Args {
-    /// Hair files (`.hair`, `.tfx`); several are merged into one asset.
+    /// Hair files (`.hair`, `.tfx`, `.usda`/`.usdc`/`.usdz`/`.usd`, `.abc`, `.data`, `.bin`);
+    /// several are merged into one asset.
     #[arg(required = true)]
     files: Vec<PathBuf>,
+    /// Segments per span when cubic or NURBS curves (USD, Alembic) are tessellated (1 to 64).
+    #[arg(long, default_value_t = ReadOptions::default().cubic_segments)]
+    cubic_segments: u32,
     /// Print exactly one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -23,6 +28,8 @@ pub(crate) struct Args {
 #[derive(Serialize, Debug)]
 pub(crate) struct Info {
     files: Vec<String>,
+    /// Per file: its format and what the read found.
+    sources: Vec<Source>,
     strands: usize,
     vertices: usize,
     segments: usize,
@@ -39,6 +46,31 @@ pub(crate) struct Info {
     has_strand_uv: bool,
 }
 
+/// One input file of `info`: its format, the USD prims or Alembic objects read, the USD meshes
+/// found, and the strands left out.
+#[derive(Serialize, Debug)]
+pub(crate) struct Source {
+    file: String,
+    format: &'static str,
+    objects: Vec<String>,
+    meshes: Vec<String>,
+    guides_skipped: usize,
+    single_vertex_skipped: usize,
+}
+
+impl Source {
+    fn of(file: &std::path::Path, format: Format, d: &Details) -> Source {
+        Source {
+            file: file.display().to_string(),
+            format: format.name(),
+            objects: d.objects.clone(),
+            meshes: d.meshes.clone(),
+            guides_skipped: d.guides_skipped,
+            single_vertex_skipped: d.single_vertex_skipped,
+        }
+    }
+}
+
 impl Info {
     pub(crate) fn of(files: &[PathBuf], h: &HairAsset) -> Info {
         let b = h.bounds();
@@ -46,6 +78,7 @@ impl Info {
         let len = h.length_stats();
         Info {
             files: files.iter().map(|p| p.display().to_string()).collect(),
+            sources: Vec::new(),
             strands: h.strand_count(),
             vertices: h.vertex_count(),
             segments: h.segment_count(),
@@ -66,14 +99,39 @@ impl Info {
 
 pub(crate) fn run(args: Args) -> Result<()> {
     let pb = progress::spinner("reading");
-    let hair = tress_hair::formats::read_paths(&args.files);
+    let options = ReadOptions {
+        cubic_segments: args.cubic_segments,
+    };
+    let read = tress_hair::formats::load_paths(&args.files, &options);
     pb.finish_and_clear();
-    let info = Info::of(&args.files, &hair?);
+    let (hair, found) = read?;
+    let mut info = Info::of(&args.files, &hair);
+    info.sources = args
+        .files
+        .iter()
+        .zip(&found)
+        .map(|(p, (format, details))| Source::of(p, *format, details))
+        .collect();
     if args.json {
         println!("{}", serde_json::to_string(&info)?);
     } else {
         let yes = |b: bool| if b { "yes" } else { "no" };
         println!("files:               {}", info.files.join(", "));
+        for s in &info.sources {
+            println!("format:              {} ({})", s.format, s.file);
+            if !s.objects.is_empty() {
+                println!("  curves read:       {}", s.objects.join(", "));
+            }
+            if !s.meshes.is_empty() {
+                println!("  meshes (head):     {}", s.meshes.join(", "));
+            }
+            if s.guides_skipped > 0 {
+                println!("  guides skipped:    {}", s.guides_skipped);
+            }
+            if s.single_vertex_skipped > 0 {
+                println!("  1-vertex strands skipped: {}", s.single_vertex_skipped);
+            }
+        }
         println!("strands:             {}", info.strands);
         println!("vertices:            {}", info.vertices);
         println!("segments:            {}", info.segments);

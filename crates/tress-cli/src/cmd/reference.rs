@@ -22,7 +22,7 @@ use crate::progress;
 /// Arguments of `tress reference`.
 #[derive(clap::Args, Debug)]
 pub(crate) struct Args {
-    /// A scene file (`.toml`), or hair files (`.hair`, `.tfx`; merged, framed automatically,
+    /// A scene file (`.toml`), or hair files (`.hair`, `.tfx`, USD, `.abc`, `.data`, `.bin`; merged, framed automatically,
     /// default lights, no head). Nothing traces the built-in demo scene.
     inputs: Vec<PathBuf>,
     /// Output image: `.png` (8-bit sRGB) or `.exr` (linear float).

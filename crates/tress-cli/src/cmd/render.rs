@@ -22,7 +22,7 @@ const IMPLEMENTED: &[&str] = &["strands", "volume", "hybrid", "patches", "satf"]
 /// Arguments of `tress render`.
 #[derive(clap::Args, Debug)]
 pub(crate) struct Args {
-    /// A scene file (`.toml`), or hair files (`.hair`, `.tfx`; merged, framed automatically,
+    /// A scene file (`.toml`), or hair files (`.hair`, `.tfx`, USD, `.abc`, `.data`, `.bin`; merged, framed automatically,
     /// default lights, no head), or one hair-card OBJ file (technique `patches`). Nothing renders
     /// the built-in demo scene.
     inputs: Vec<PathBuf>,

@@ -13,7 +13,7 @@ use super::satf_bake::database_for_render;
 /// Arguments of `tress view`.
 #[derive(clap::Args, Debug)]
 pub(crate) struct Args {
-    /// A scene file (`.toml`), or hair files (`.hair`, `.tfx`; merged, framed automatically),
+    /// A scene file (`.toml`), or hair files (`.hair`, `.tfx`, USD, `.abc`, `.data`, `.bin`; merged, framed automatically),
     /// or one hair-card OBJ file. Nothing opens the built-in demo scene.
     inputs: Vec<PathBuf>,
     /// Technique to start with (default: the scene's, else `strands`); T cycles them.

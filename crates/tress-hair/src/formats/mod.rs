@@ -1,12 +1,17 @@
-//! Hair file formats: Cem Yuksel `.hair` and AMD TressFX `.tfx`.
+//! Hair file formats: what tress reads and writes, chosen by extension.
 //!
-//! | format | read | write | module |
-//! | --- | --- | --- | --- |
-//! | Cem Yuksel `.hair` (with the vkhr extension) | yes | yes (plain Cem Yuksel layout) | [`hair`] |
-//! | TressFX `.tfx` 3.x | yes (follow hairs generated) | no | [`tfx`] |
-//! | TressFX `.tfx` 4.x | yes | yes | [`tfx`] |
+//! | format | extensions | read | write | module |
+//! | --- | --- | --- | --- | --- |
+//! | Cem Yuksel `.hair` (with the vkhr extension) | `.hair` | yes | yes (plain Cem Yuksel layout) | [`hair`] |
+//! | TressFX 3.x / 4.x | `.tfx` | yes (3.x: follow hairs generated) | 4.x | [`tfx`] |
+//! | USD `BasisCurves` / `NurbsCurves` (+ `Mesh`) | `.usda` `.usdc` `.usdz` `.usd` | yes | `.usda`, `.usdc` (linear) | [`usd`] |
+//! | Alembic `ICurves` (Ogawa) | `.abc` | yes | no | [`abc`] |
+//! | USC-HairSalon | `.data` | yes (1-vertex strands skipped) | yes | [`usc`] |
+//! | CT2Hair | `.bin` | yes | no | [`ct2hair`] |
 //!
-//! The submodules document the exact byte layouts and where they come from.
+//! The submodules document the exact layouts and where they come from. Cubic and NURBS curves are
+//! tessellated by the rule in [`curves`] at [`ReadOptions::cubic_segments`]. Head and body
+//! meshes (OBJ, glTF, USD `Mesh`) are read by [`mesh`].
 //!
 //! # Validation
 //!
@@ -20,19 +25,32 @@
 //!
 //! Each array is decoded in one pass from the validated byte range straight into a vector of
 //! exactly its size (no zero-fill, no per-element allocation); arrays of 1 MiB or more are split
-//! over rayon's threads. `cargo bench -p tress-hair --bench read` measures both readers on a
+//! over rayon's threads. `cargo bench -p tress-hair --bench read` measures the readers on a
 //! 136k-strand × 16-vertex asset.
 
 use std::path::{Path, PathBuf};
 
 use crate::{HairAsset, HairError};
 
+pub mod abc;
 mod bytes;
+pub mod ct2hair;
+pub mod curves;
+pub mod gltf;
 pub mod hair;
+pub mod mesh;
 pub mod tfx;
+pub mod usc;
+pub mod usd;
 
+pub use abc::{AbcInfo, read_abc};
+pub use ct2hair::read_ct2hair;
+pub use curves::ReadOptions;
 pub use hair::{read_hair, write_hair};
+pub use mesh::read_mesh;
 pub use tfx::{TfxFile, TfxVersion, parse_tfx, read_tfx, write_tfx};
+pub use usc::{DataInfo, read_data, write_data};
+pub use usd::{UsdFlavor, UsdInfo, read_usd, read_usd_bytes, write_usd};
 
 /// A hair file format, chosen by file extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -41,13 +59,42 @@ pub enum Format {
     Hair,
     /// AMD TressFX `.tfx` (see [`tfx`]): versions 3.x and 4.x are read, 4.x is written.
     Tfx,
+    /// USD text `.usda` (see [`usd`]): read and written.
+    Usda,
+    /// USD binary `.usdc`: read and written.
+    Usdc,
+    /// USD package `.usdz`: read.
+    Usdz,
+    /// `.usd`: text or binary, told apart by the file's first bytes; read, and written as binary.
+    Usd,
+    /// Alembic `.abc`, Ogawa (see [`abc`]): read.
+    Abc,
+    /// USC-HairSalon `.data` (see [`usc`]): read and written.
+    Data,
+    /// CT2Hair `.bin` (see [`ct2hair`]): read.
+    Ct2Hair,
 }
+
+/// The extensions tress reads, for messages.
+const READS: &str = ".hair, .tfx, .usda, .usdc, .usdz, .usd, .abc, .data and .bin";
+/// The extensions tress writes, for messages.
+const WRITES: &str = ".hair, .tfx, .usda, .usdc, .usd and .data";
 
 impl Format {
     /// Every format, in a stable order.
-    pub const ALL: [Format; 2] = [Format::Hair, Format::Tfx];
+    pub const ALL: [Format; 9] = [
+        Format::Hair,
+        Format::Tfx,
+        Format::Usda,
+        Format::Usdc,
+        Format::Usdz,
+        Format::Usd,
+        Format::Abc,
+        Format::Data,
+        Format::Ct2Hair,
+    ];
 
-    /// The format of a path by its extension (case-insensitive): `.hair` or `.tfx`.
+    /// The format of a path by its extension (case-insensitive).
     ///
     /// The error names the path and the extensions that are understood.
     pub fn from_path(path: &Path) -> Result<Format, HairError> {
@@ -55,17 +102,19 @@ impl Format {
             .extension()
             .and_then(|e| e.to_str())
             .map(str::to_ascii_lowercase);
-        match ext.as_deref() {
-            Some("hair") => Ok(Format::Hair),
-            Some("tfx") => Ok(Format::Tfx),
-            Some(other) => Err(HairError::format(
+        let found = Format::ALL
+            .into_iter()
+            .find(|f| Some(f.extension()) == ext.as_deref());
+        match (found, ext) {
+            (Some(f), _) => Ok(f),
+            (None, Some(other)) => Err(HairError::format(
                 "hair file",
-                format!("unknown extension `.{other}`; tress reads and writes .hair and .tfx"),
+                format!("unknown extension `.{other}`; tress reads {READS}"),
             )
             .in_file(path)),
-            None => Err(HairError::format(
+            (None, None) => Err(HairError::format(
                 "hair file",
-                "no file extension; tress reads and writes .hair and .tfx",
+                format!("no file extension; tress reads {READS}"),
             )
             .in_file(path)),
         }
@@ -76,14 +125,77 @@ impl Format {
         match self {
             Format::Hair => "hair",
             Format::Tfx => "tfx",
+            Format::Usda => "usda",
+            Format::Usdc => "usdc",
+            Format::Usdz => "usdz",
+            Format::Usd => "usd",
+            Format::Abc => "abc",
+            Format::Data => "data",
+            Format::Ct2Hair => "bin",
         }
     }
 
-    /// Read an asset of this format from bytes.
-    pub fn read(self, bytes: &[u8]) -> Result<HairAsset, HairError> {
+    /// The format's name in words, e.g. for `tress info`.
+    pub fn name(self) -> &'static str {
         match self {
-            Format::Hair => read_hair(bytes),
-            Format::Tfx => read_tfx(bytes),
+            Format::Hair => "Cem Yuksel .hair",
+            Format::Tfx => "TressFX .tfx",
+            Format::Usda => "USD text (.usda)",
+            Format::Usdc => "USD binary (.usdc)",
+            Format::Usdz => "USD package (.usdz)",
+            Format::Usd => "USD (.usd)",
+            Format::Abc => "Alembic (Ogawa)",
+            Format::Data => "USC-HairSalon .data",
+            Format::Ct2Hair => "CT2Hair .bin",
+        }
+    }
+
+    /// Whether [`Format::write`] writes this format.
+    pub fn is_writable(self) -> bool {
+        matches!(
+            self,
+            Format::Hair | Format::Tfx | Format::Usda | Format::Usdc | Format::Usd | Format::Data
+        )
+    }
+
+    /// Read an asset of this format from bytes, with the default [`ReadOptions`].
+    pub fn read(self, bytes: &[u8]) -> Result<HairAsset, HairError> {
+        Ok(self.read_with(bytes, &ReadOptions::default())?.asset)
+    }
+
+    /// Read an asset of this format from bytes. A USD stage read from bytes cannot resolve
+    /// references to other files; [`load_path`] can.
+    pub fn read_with(self, bytes: &[u8], options: &ReadOptions) -> Result<Loaded, HairError> {
+        let plain = |asset| Loaded {
+            asset,
+            format: self,
+            details: Details::default(),
+        };
+        match self {
+            Format::Hair => read_hair(bytes).map(plain),
+            Format::Tfx => read_tfx(bytes).map(plain),
+            Format::Data => {
+                let (asset, info) = read_data(bytes)?;
+                let mut l = plain(asset);
+                l.details.single_vertex_skipped = info.single_vertex_skipped;
+                Ok(l)
+            }
+            Format::Ct2Hair => read_ct2hair(bytes).map(plain),
+            Format::Abc => {
+                let (asset, info) = read_abc(bytes, options)?;
+                let mut l = plain(asset);
+                l.details.objects = info.objects;
+                l.details.guides_skipped = info.guides_skipped;
+                Ok(l)
+            }
+            Format::Usda | Format::Usdc | Format::Usdz | Format::Usd => {
+                let ext = match self {
+                    Format::Usd if bytes.starts_with(b"PXR-USDC") => "usdc",
+                    Format::Usd => "usda",
+                    other => other.extension(),
+                };
+                usd_loaded(self, read_usd_bytes(bytes, ext, options)?)
+            }
         }
     }
 
@@ -92,15 +204,95 @@ impl Format {
         match self {
             Format::Hair => write_hair(asset),
             Format::Tfx => write_tfx(asset),
+            Format::Data => write_data(asset),
+            Format::Usda => write_usd(asset, UsdFlavor::Text),
+            Format::Usdc | Format::Usd => write_usd(asset, UsdFlavor::Binary),
+            Format::Usdz | Format::Abc | Format::Ct2Hair => Err(HairError::format(
+                "hair file",
+                format!(
+                    "tress reads {} but does not write it; it writes {WRITES}",
+                    self.name()
+                ),
+            )),
         }
     }
 }
 
-/// Read a hair file, its format chosen by extension. Errors read `path: problem`.
+/// What a read found beyond the asset: shown by `tress info`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Details {
+    /// USD prims or Alembic objects the curves came from.
+    pub objects: Vec<String>,
+    /// USD `Mesh` prims (the head/body mesh; not part of the hair).
+    pub meshes: Vec<String>,
+    /// Alembic guide curves left out.
+    pub guides_skipped: usize,
+    /// `.data` strands of one vertex left out.
+    pub single_vertex_skipped: usize,
+    /// The USD stage's `Mesh` prims merged (world space): the head or body that came with the
+    /// groom.
+    pub mesh: Option<crate::generate::TriMesh>,
+}
+
+/// An asset read from one file, with its format and what the read found.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    /// The strands.
+    pub asset: HairAsset,
+    /// The file's format.
+    pub format: Format,
+    /// Prims, objects and skipped strands.
+    pub details: Details,
+}
+
+fn usd_loaded(format: Format, c: usd::UsdContents) -> Result<Loaded, HairError> {
+    let asset = c.hair.ok_or_else(|| {
+        HairError::format(
+            "USD",
+            if c.info.meshes.is_empty() {
+                "the stage has no BasisCurves or NurbsCurves prims".to_string()
+            } else {
+                format!(
+                    "the stage has no curves, only meshes ({}); give it as a head mesh instead",
+                    c.info.meshes.join(", ")
+                )
+            },
+        )
+    })?;
+    Ok(Loaded {
+        asset,
+        format,
+        details: Details {
+            objects: c.info.prims,
+            meshes: c.info.meshes,
+            mesh: c.mesh,
+            ..Details::default()
+        },
+    })
+}
+
+/// Read a hair file, its format chosen by extension, with the default [`ReadOptions`]. Errors
+/// read `path: problem`.
 pub fn read_path(path: &Path) -> Result<HairAsset, HairError> {
+    Ok(load_path(path, &ReadOptions::default())?.asset)
+}
+
+/// Read a hair file, its format chosen by extension, with what the read found. USD stages are
+/// opened from the file, so their references resolve. Errors read `path: problem`.
+pub fn load_path(path: &Path, options: &ReadOptions) -> Result<Loaded, HairError> {
     let format = Format::from_path(path)?;
+    options.validate()?;
+    if matches!(
+        format,
+        Format::Usda | Format::Usdc | Format::Usdz | Format::Usd
+    ) {
+        let c = read_usd(path, options).map_err(|e| e.in_file(path))?;
+        return usd_loaded(format, c).map_err(|e| e.in_file(path));
+    }
     let bytes = std::fs::read(path).map_err(|e| HairError::from(e).in_file(path))?;
-    format.read(&bytes).map_err(|e| e.in_file(path))
+    format
+        .read_with(&bytes, options)
+        .map_err(|e| e.in_file(path))
 }
 
 /// Write a hair file, its format chosen by extension. Errors read `path: problem`.
@@ -113,12 +305,31 @@ pub fn write_path(path: &Path, asset: &HairAsset) -> Result<(), HairError> {
 /// Read several hair files (each by its extension) and merge them in order with
 /// [`HairAsset::merge`]: a TressFX character often comes as one `.tfx` per hair part.
 pub fn read_paths(paths: &[PathBuf]) -> Result<HairAsset, HairError> {
+    Ok(load_paths(paths, &ReadOptions::default())?.0)
+}
+
+/// [`read_paths`] with options, also giving each file's format and what its read found (in
+/// order).
+pub fn load_paths(
+    paths: &[PathBuf],
+    options: &ReadOptions,
+) -> Result<(HairAsset, Vec<(Format, Details)>), HairError> {
     if paths.is_empty() {
         return Err(HairError::Parameter("no hair files given".into()));
     }
-    let assets = paths
-        .iter()
-        .map(|p| read_path(p))
-        .collect::<Result<Vec<_>, _>>()?;
-    HairAsset::merge(&assets)
+    let mut assets = Vec::with_capacity(paths.len());
+    let mut found = Vec::with_capacity(paths.len());
+    for p in paths {
+        let l = load_path(p, options)?;
+        assets.push(l.asset);
+        found.push((l.format, l.details));
+    }
+    let asset = if assets.len() == 1 {
+        assets
+            .pop()
+            .ok_or_else(|| HairError::Parameter("no hair files given".into()))?
+    } else {
+        HairAsset::merge(&assets)?
+    };
+    Ok((asset, found))
 }

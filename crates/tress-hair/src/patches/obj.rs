@@ -333,7 +333,7 @@ fn obj_error(e: tobj::LoadError) -> String {
 }
 
 /// Area-weighted vertex normals from the faces; vertices without a usable face get +Y.
-fn face_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
+pub(crate) fn face_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
     let mut sum = vec![Vec3::ZERO; positions.len()];
     for t in indices.chunks_exact(3) {
         let [a, b, c] = [0, 1, 2].map(|k| positions[t[k] as usize]);
