@@ -264,8 +264,8 @@ impl DualScattering {
             ds.delta_b[k] =
                 per(&|af, ab| backscatter_shift(af, ab, a.alpha_f, a.alpha_b)).extend(0.0);
             ds.sigma_b2[k] = (sigma_b * sigma_b).extend(0.0);
-            for p in 0..3 {
-                azimuthal[p] += a.azimuthal[p];
+            for (sum, lobe) in azimuthal.iter_mut().zip(a.azimuthal) {
+                *sum += lobe;
             }
         }
         let avg = |p: usize| azimuthal[p] / (DS_TABLE as f32 * TAU);

@@ -105,7 +105,7 @@ impl HairFiber {
                 return bad(name, format!("must lie in [0.01, 1], got {b}"));
             }
         }
-        if !(self.alpha.abs() <= MAX_ALPHA) {
+        if !(-MAX_ALPHA..=MAX_ALPHA).contains(&self.alpha) {
             return bad(
                 "alpha",
                 format!(

@@ -215,13 +215,13 @@ impl Stencils {
             wrap
         };
         let spans = match (bezier, wrap) {
-            (true, Wrap::Periodic) if n >= 3 && n % 3 == 0 => n / 3,
+            (true, Wrap::Periodic) if n >= 3 && n.is_multiple_of(3) => n / 3,
             (true, Wrap::Periodic) => {
                 return Err(format!(
                     "a periodic Bezier curve needs 3k vertices, not {n}"
                 ));
             }
-            (true, _) if n >= 4 && (n - 4) % 3 == 0 => (n - 1) / 3,
+            (true, _) if n >= 4 && (n - 4).is_multiple_of(3) => (n - 1) / 3,
             (true, _) => {
                 return Err(format!(
                     "a Bezier curve needs 3k + 1 vertices (at least 4), not {n}"
