@@ -118,15 +118,42 @@ impl PreparedScene {
     }
 }
 
-/// A camera framing `bounds` (min, max) from the front three-quarter view, with the near and
-/// far planes around it: what `tress render hair-file` uses when no scene gives a camera.
+/// The front three-quarter view direction (from the target toward the eye) of hair framed by
+/// [`frame_bounds`].
+pub const FRONT_VIEW: Vec3 = Vec3::new(0.45, 0.2, 1.0);
+
+/// The side three-quarter view, taken when the hair is much thinner across `x` than along `z`.
+pub const SIDE_VIEW: Vec3 = Vec3::new(1.0, 0.2, 0.45);
+
+/// The area of a box of `extent` seen along the unit `dir` (orthographic): the sum of its faces'
+/// areas weighted by how squarely each faces `dir`.
+pub fn projected_area(extent: Vec3, dir: Vec3) -> f32 {
+    let e = extent.abs();
+    dir.x.abs() * e.y * e.z + dir.y.abs() * e.x * e.z + dir.z.abs() * e.x * e.y
+}
+
+/// The view direction [`frame_bounds`] takes for a box of `extent`: the front three-quarter
+/// view, or the side one where the box shows at least 1.2 times the area from there (a mohawk,
+/// a crest of fur: hair much thinner across than along, which the front view shows as a strip).
+pub fn framing_direction(extent: Vec3) -> Vec3 {
+    let (front, side) = (FRONT_VIEW.normalize(), SIDE_VIEW.normalize());
+    if projected_area(extent, side) > 1.2 * projected_area(extent, front) {
+        side
+    } else {
+        front
+    }
+}
+
+/// A camera framing `bounds` (min, max) from a three-quarter view across the box's largest
+/// extents ([`framing_direction`]), with the near and far planes around it: what
+/// `tress render hair-file` uses when no scene gives a camera.
 pub fn frame_bounds(scene: &mut Scene, min: Vec3, max: Vec3) {
     let center = (min + max) * 0.5;
     let radius = ((max - min).length() * 0.5).max(1e-3);
     let fov = scene.camera.fov_y_deg.to_radians();
     let aspect = scene.output.aspect().min(1.0);
     let distance = radius / ((fov * 0.5).tan() * aspect).atan().sin() * 1.05;
-    let dir = Vec3::new(0.45, 0.2, 1.0).normalize();
+    let dir = framing_direction(max - min);
     scene.camera.eye = center + dir * distance;
     scene.camera.target = center;
     scene.camera.up = Vec3::Y;
@@ -332,6 +359,7 @@ pub fn read_obj_mesh(path: &Path) -> Result<HeadMesh, RenderError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec2;
 
     #[test]
     fn strand_table_overrides_defaults_and_rejects_unknown_keys() {
@@ -428,6 +456,48 @@ mod tests {
                 ndc.z
             );
         }
+    }
+
+    /// The area of the screen rectangle around the projected corners of (min, max).
+    fn screen_rect_area(scene: &Scene, min: Vec3, max: Vec3) -> f32 {
+        let cam = PreparedScene::camera(scene, [640, 360]);
+        let (mut lo, mut hi) = (Vec2::splat(f32::MAX), Vec2::splat(f32::MIN));
+        for i in 0..8 {
+            let corner = Vec3::select(
+                glam::BVec3::new(i & 1 == 0, i & 2 == 0, i & 4 == 0),
+                min,
+                max,
+            );
+            let clip = cam.clip_from_world() * corner.extend(1.0);
+            let ndc = clip.truncate().truncate() / clip.w;
+            lo = lo.min(ndc);
+            hi = hi.max(ndc);
+        }
+        (hi - lo).x * (hi - lo).y
+    }
+
+    #[test]
+    fn a_mohawk_is_framed_across_its_largest_extents() {
+        // The TressFX 4 mohawk's bounds (metres): thin across x, long along z.
+        let (min, max) = (Vec3::new(-0.105, 0.8, -0.45), Vec3::new(0.105, 1.41, 0.45));
+        let mut scene = Scene::from_str("", ".").unwrap();
+        frame_bounds(&mut scene, min, max);
+        let framed = screen_rect_area(&scene, min, max);
+        // The same distance and target from the front three-quarter view.
+        let mut front = scene.clone();
+        let distance = (scene.camera.eye - scene.camera.target).length();
+        front.camera.eye = scene.camera.target + FRONT_VIEW.normalize() * distance;
+        let from_front = screen_rect_area(&front, min, max);
+        assert!(
+            framed > 1.3 * from_front,
+            "framed {framed} vs front {from_front}"
+        );
+        // A head of hair about as wide as deep keeps the front view.
+        let head = Vec3::new(22.0, 30.0, 24.0);
+        assert_eq!(framing_direction(head), FRONT_VIEW.normalize());
+        // The projected area is that of the box's faces: a unit cube along an axis shows one face.
+        assert!((projected_area(Vec3::ONE, Vec3::Z) - 1.0).abs() < 1e-6);
+        assert!((projected_area(Vec3::new(2.0, 3.0, 4.0), Vec3::X) - 12.0).abs() < 1e-6);
     }
 
     #[test]
