@@ -1,9 +1,9 @@
-//! `tress convert IN... OUT [--follow N] [--seed S]`
+//! `tress convert IN... OUT [--follow N [--follow-mode M] [--follow-radius R|Kx]] [--seed S]`
 
 use std::path::PathBuf;
 
 use anyhow::{Result, bail};
-use tress_hair::FollowParams;
+use tress_hair::{FollowMode, FollowParams, FollowRadius};
 
 use crate::progress;
 
@@ -14,13 +14,21 @@ pub(crate) struct Args {
     /// follows its extension (`.hair` or `.tfx`).
     #[arg(required = true, num_args = 2.., value_name = "IN... OUT")]
     paths: Vec<PathBuf>,
-    /// Give every strand N follow hairs (TressFX style): strands = inputs × (N + 1).
+    /// Give every strand N follow hairs: strands = inputs × (N + 1).
     #[arg(long, default_value_t = 0)]
     follow: u32,
-    /// Largest root offset of a follow hair from its guide (world units).
-    #[arg(long, default_value_t = FollowParams::default().root_radius)]
-    follow_radius: f32,
-    /// How much farther apart follow-hair tips are than their roots.
+    /// How follow hairs are made: `interpolate` (blend the three guides whose roots surround
+    /// the follower's, so the coat is even between guides) or `offset` (TressFX: copies of the
+    /// guide, offset on the scalp and fanning out toward the tip).
+    #[arg(long, default_value = "interpolate", value_parser = parse_mode)]
+    follow_mode: FollowMode,
+    /// Follow-hair root radius: world units (`0.25`) or a multiple of the guides' root spacing,
+    /// the median distance from a root to the nearest other root (`0.6x`). Offset mode: the
+    /// largest root offset; interpolate: the scale of the followers' stray toward the tip.
+    #[arg(long, default_value_t = FollowParams::default().root_radius, value_parser = parse_radius)]
+    follow_radius: FollowRadius,
+    /// Offset mode: how much farther apart follow-hair tips are than their roots; interpolate:
+    /// how far (in root radii) the tips stray from the blend.
     #[arg(long, default_value_t = FollowParams::default().tip_separation)]
     tip_separation: f32,
     /// Resample every strand to this many vertices.
@@ -53,13 +61,31 @@ pub(crate) fn run(args: Args) -> Result<()> {
         let pb = progress::spinner(format!("adding {} follow hairs per strand", args.follow));
         let params = FollowParams {
             count: args.follow,
+            mode: args.follow_mode,
             root_radius: args.follow_radius,
             tip_separation: args.tip_separation,
             seed: args.seed,
         };
-        let out = hair.with_follow_hairs(&params);
+        let out = hair.follow_hairs(&params);
         pb.finish_and_clear();
-        hair = out?;
+        let (followed, report) = out?;
+        hair = followed;
+        let spacing = report
+            .root_spacing
+            .map_or_else(|| "none".to_owned(), |s| format!("{s:.4}"));
+        eprintln!(
+            "follow hairs: {} × {}, guides' root spacing {spacing} (median), radius {:.4}",
+            args.follow_mode.name(),
+            args.follow,
+            report.root_radius
+        );
+        if report.offset_guides > 0 {
+            eprintln!(
+                "follow hairs: {} guides are the corner of no triangle of guides (isolated or in a \
+                 single row); their followers are offset",
+                report.offset_guides
+            );
+        }
     }
     if let Some(n) = args.resample {
         hair = hair.resample_count(n)?;
@@ -72,4 +98,12 @@ pub(crate) fn run(args: Args) -> Result<()> {
         hair.vertex_count()
     );
     Ok(())
+}
+
+fn parse_mode(s: &str) -> Result<FollowMode, String> {
+    s.parse().map_err(|e: tress_hair::HairError| e.to_string())
+}
+
+fn parse_radius(s: &str) -> Result<FollowRadius, String> {
+    s.parse().map_err(|e: tress_hair::HairError| e.to_string())
 }
