@@ -21,7 +21,7 @@
 //! database = "hair.satfdb"      # absent: a cache file named by the bake settings
 //! bake = { samples = 2048, angles = 16, pixels = 16, seed = 0, max_strands = 48 }
 //! clusters = "auto"             # auto | fit | generate
-//! fit = { strands_per_cluster = 256, control_points = 8, axis_quantile = 0.95, stray_split = 0.75 }
+//! fit = { strands_per_cluster = 256, control_points = 8, axis_quantile = 0.95, stray_split = 0.75, max_clusters = 512 }
 //! generate = { macro_clusters = 12, clusters_per_macro = 5, strands_per_cluster = 150 }
 //! st = 16                       # equation 3: s_t, s_v, s_u; the innermost core_rings are the core
 //! sv = 4
@@ -95,6 +95,7 @@ struct FitTable {
     axis_quantile: Option<f32>,
     min_radius: Option<f32>,
     stray_split: Option<f32>,
+    max_clusters: Option<u32>,
 }
 
 /// `[satf.generate]`.
@@ -270,7 +271,8 @@ pub fn satf_settings(scene: &Scene) -> Result<SatfScene, RenderError> {
         profile_control_points,
         profile_bins,
         axis_quantile,
-        stray_split
+        stray_split,
+        max_clusters
     );
     if let Some(r) = f.min_radius {
         fit.min_radius = Some(r);

@@ -60,11 +60,15 @@
 //!    roots cover a patch of the head: its rim stands off the sheet by the patch's sagitta. So
 //!    each fitted group's shell (`v = 1` on 16 points around the root ring and around the rings
 //!    at the middles of 16 intervals of `t`; not the tip ring, which closes over staggered tips
-//!    whatever the split) is measured against the group's strands, and where some shell point lies farther from every strand than
-//!    [`FitSettings::stray_split`] (0.75) of the cross-section's larger half-axis there, the
-//!    group is cut in two at its widest gap (as in step 2) and both halves are fitted again,
-//!    down to groups of 8 strands. Halving a patch's width quarters its sagitta. Scale-free and
-//!    independent of the strand count: the test compares the shell with its own size.
+//!    whatever the split) is measured against the group's strands, and where some shell point
+//!    lies farther from every strand than [`FitSettings::stray_split`] (0.75) of the
+//!    cross-section's larger half-axis there (and than ten minimum half-axes: 1% of the hair's
+//!    diagonal by default, a pixel or two, not worth a cluster), the group is cut in two at its
+//!    widest gap (as in step 2) and both halves are fitted again, down to groups of 8 strands.
+//!    Halving a patch's width quarters its sagitta. The groups are split in rounds, the worst
+//!    first, while the clusters number at most [`FitSettings::max_clusters`] (512): each
+//!    cluster's layer mesh takes GPU memory, and splitting every group of a 50,000-strand asset
+//!    to the end gives thousands.
 //!
 //! A group whose strands give no trajectory (their mean has no length, e.g. strands leaving one
 //! root in opposite directions) is fitted strand by strand instead; a strand that cannot carry a
@@ -89,6 +93,7 @@
 
 mod group;
 mod profile;
+mod split;
 mod stray;
 #[cfg(test)]
 mod tests;
@@ -142,6 +147,9 @@ pub struct FitSettings {
     /// this fraction of the cross-section's larger half-axis there (step 7; 0: never split).
     /// Default 0.75.
     pub stray_split: f32,
+    /// Most clusters step 7 splits groups into (each cluster's layer mesh takes GPU memory);
+    /// the groups of step 2 are all kept even above it. Default 512.
+    pub max_clusters: u32,
 }
 
 impl Default for FitSettings {
@@ -157,6 +165,7 @@ impl Default for FitSettings {
             min_radius: None,
             twist_mode: TwistMode::RotateAxes,
             stray_split: 0.75,
+            max_clusters: 512,
         }
     }
 }
@@ -194,6 +203,9 @@ impl FitSettings {
         if !(self.stray_split.is_finite() && self.stray_split >= 0.0) {
             return Err(param("stray_split must be finite and non-negative"));
         }
+        if self.max_clusters == 0 {
+            return Err(param("max_clusters must be at least 1"));
+        }
         Ok(())
     }
 }
@@ -227,19 +239,7 @@ pub fn fit_clusters(asset: &HairAsset, settings: &FitSettings) -> Result<HairVol
         )));
     }
     let groups = group_strands(&kept, &settings);
-    let fitted = groups
-        .par_iter()
-        .map(|g| {
-            let strands: Vec<&[Vec3]> = g.iter().map(|&i| kept[i as usize].as_slice()).collect();
-            fit_group(&strands, &settings)
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let mut macro_clusters = Vec::with_capacity(fitted.len());
-    let mut degenerate = 0;
-    for (clusters, lost) in fitted {
-        macro_clusters.extend(clusters);
-        degenerate += lost;
-    }
+    let (macro_clusters, degenerate) = split::fit_groups(&kept, groups, &settings)?;
     Ok(HairVolume {
         macro_clusters,
         skipped: SkippedStrands {
@@ -247,60 +247,6 @@ pub fn fit_clusters(asset: &HairAsset, settings: &FitSettings) -> Result<HairVol
             degenerate,
         },
     })
-}
-
-/// One group's clusters and the number of its strands that could not be fitted: the group as
-/// one cluster, split in two while its shell strays (step 7), or strand by strand when the
-/// group has no trajectory.
-fn fit_group(
-    strands: &[&[Vec3]],
-    settings: &FitSettings,
-) -> Result<(Vec<MacroCluster>, usize), SatfError> {
-    match fit_cluster(strands, settings) {
-        Ok(m) => {
-            let floor = settings.min_radius.unwrap_or(0.0);
-            let strays = strands.len() >= 2 * MIN_SPLIT_STRANDS
-                && settings.stray_split > 0.0
-                && stray::stray_ratio(&m, strands, floor).is_some_and(|r| r > settings.stray_split);
-            if !strays {
-                return Ok((vec![m], 0));
-            }
-            let owned: Vec<Vec<Vec3>> = strands.iter().map(|s| s.to_vec()).collect();
-            let halves = group_strands(
-                &owned,
-                &FitSettings {
-                    strands_per_cluster: strands.len().div_ceil(2) as u32,
-                    ..*settings
-                },
-            );
-            if halves.len() < 2 {
-                return Ok((vec![m], 0));
-            }
-            let mut out = Vec::new();
-            let mut lost = 0;
-            for h in halves {
-                let part: Vec<&[Vec3]> = h.iter().map(|&i| strands[i as usize]).collect();
-                let (clusters, l) = fit_group(&part, settings)?;
-                out.extend(clusters);
-                lost += l;
-            }
-            Ok((out, lost))
-        }
-        Err(SatfError::Degenerate(_)) if strands.len() > 1 => {
-            let mut out = Vec::new();
-            let mut lost = 0;
-            for s in strands {
-                match fit_cluster(std::slice::from_ref(s), settings) {
-                    Ok(m) => out.push(m),
-                    Err(SatfError::Degenerate(_)) => lost += 1,
-                    Err(e) => return Err(e),
-                }
-            }
-            Ok((out, lost))
-        }
-        Err(SatfError::Degenerate(_)) => Ok((Vec::new(), strands.len())),
-        Err(e) => Err(e),
-    }
 }
 
 /// The smallest half-axis: the setting, or [`MIN_RADIUS_FRACTION`] of the diagonal `extent`

@@ -5,6 +5,10 @@ use glam::Vec3;
 
 use crate::hierarchy::MacroCluster;
 
+/// A shell point nearer a strand than this many minimum half-axes (by default 1% of the hair's
+/// diagonal, a pixel or two where the hair fills the frame) does not stray, whatever the
+/// cluster's size: splitting further would only multiply clusters (and their layer meshes).
+const NEGLIGIBLE_RADII: f32 = 10.0;
 /// Shell samples along `t` and around `u`.
 const SHELL_T: usize = 16;
 const SHELL_U: usize = 16;
@@ -38,7 +42,9 @@ pub(super) fn stray_ratio(m: &MacroCluster, strands: &[&[Vec3]], floor: f32) -> 
                 .iter()
                 .map(|s| polyline_distance(p, s))
                 .fold(f32::INFINITY, f32::min);
-            worst = worst.max(d / size);
+            if d > NEGLIGIBLE_RADII * floor {
+                worst = worst.max(d / size);
+            }
         }
     }
     Some(worst)

@@ -488,3 +488,48 @@ fn minimum_radius_follows_the_scale_of_the_hair() {
         );
     }
 }
+
+#[test]
+fn splitting_stays_within_the_cluster_budget() {
+    // A ponytail's scalp part is a sheet curved across the head: its groups' shells stray and
+    // are split (step 7), but never into more than max_clusters clusters.
+    use tress_hair::generate::{Style, StyleParams, generate};
+    let params = StyleParams {
+        strands: 2000,
+        vertices: 13,
+        ..Style::Ponytail.default_params()
+    };
+    let asset = generate(Style::Ponytail, &params).unwrap();
+    let count = |max_clusters: u32, stray_split: f32| {
+        let s = FitSettings {
+            max_clusters,
+            stray_split,
+            ..Default::default()
+        };
+        let vol = fit_clusters(&asset, &s).unwrap();
+        let stats = vol.stats(&crate::shell::ShellSampling::default());
+        assert_eq!(stats.strands + stats.skipped.total(), 2000);
+        stats.clusters
+    };
+    let groups = count(u32::MAX, 0.0);
+    let free = count(u32::MAX, 0.75);
+    assert!(free > groups + 8, "{free} clusters from {groups} groups");
+    let budget = groups as u32 + 4;
+    let capped = count(budget, 0.75);
+    assert!(
+        capped > groups && capped <= budget as usize,
+        "{capped} of {budget}"
+    );
+    // A budget below the groups' count splits nothing and drops nothing.
+    assert_eq!(count(1, 0.75), groups);
+    assert!(
+        fit_clusters(
+            &asset,
+            &FitSettings {
+                max_clusters: 0,
+                ..Default::default()
+            }
+        )
+        .is_err()
+    );
+}
