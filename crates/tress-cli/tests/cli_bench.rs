@@ -184,6 +184,19 @@ fn quality_scores_every_technique_against_the_reference() {
             assert!(flip_hair >= flip, "{r:?}");
         }
         assert!(dir.join(&r[9]).exists() && dir.join(&r[10]).exists());
+        // Every technique's hair silhouette against the reference's (IoU) and the share of it
+        // outside the strand renderer's dilated by 4 pixels (stray geometry).
+        if r[4] == "color" && r[3] != "reference" {
+            let iou: f64 = r[11].parse().unwrap();
+            let stray: f64 = r[12].parse().unwrap();
+            assert!(iou > 0.5 && iou <= 1.0, "{r:?}");
+            assert!((0.0..=100.0).contains(&stray), "{r:?}");
+            if r[3] == "strands" {
+                assert_eq!(stray, 0.0, "{r:?}");
+            }
+        } else {
+            assert_eq!((r[11].as_str(), r[12].as_str()), ("", ""), "{r:?}");
+        }
     }
     assert_eq!(rows.iter().filter(|r| r[4] == "ao").count(), 2);
     // Two seeds of the reference differ (it is noisy at 4 spp) but are not unrelated.
@@ -205,6 +218,55 @@ fn quality_scores_every_technique_against_the_reference() {
     }
     let md = std::fs::read_to_string(dir.join("quality.md")).unwrap();
     assert!(md.contains("| demo | 1 |") && md.contains("-reference.png"));
+}
+
+#[test]
+fn quality_scores_only_the_techniques_and_distances_asked_for() {
+    if skip_gpu() {
+        eprintln!("skipped on purpose: TRESS_SKIP_GPU_TESTS=1");
+        return;
+    }
+    let dir = tmp("quality-select");
+    let mut args = vec![
+        "bench",
+        "--quality",
+        "--quick",
+        "--spp",
+        "2",
+        "--width",
+        "96",
+        "--height",
+        "54",
+        "--technique",
+        "satf",
+        "--distance",
+        "2",
+        "-o",
+        dir.to_str().unwrap(),
+    ];
+    assert_gpu_success(&tress(&args));
+    let rows = csv_rows(&dir.join("quality.csv"));
+    let picked: Vec<(&str, &str, &str)> = rows
+        .iter()
+        .map(|r| (r[1].as_str(), r[3].as_str(), r[4].as_str()))
+        .collect();
+    assert_eq!(
+        picked,
+        [
+            ("2", "satf", "color"),
+            ("2", "reference", "color"),
+            ("2", "volume", "ao")
+        ],
+        "{rows:?}"
+    );
+    args[12] = "0";
+    let out = tress(&args);
+    assert!(!out.status.success());
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("--distance must be positive"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 #[test]

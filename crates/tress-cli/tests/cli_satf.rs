@@ -254,3 +254,59 @@ fn render_satf_database_errors_are_one_line() {
     let err = one_error_line(&render(&["--set", "satf.k_threshold=-1"]));
     assert!(err.contains("k_threshold"), "{err}");
 }
+
+#[test]
+fn render_satf_counts_the_strands_the_fit_skips() {
+    if skip_gpu() {
+        return;
+    }
+    // 60 straight strands in a bundle and 3 that are single points: the 60 are drawn, the
+    // 3 are counted and reported, not dropped silently.
+    use glam::Vec3;
+    let dir = tmp("fit-skips");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut positions = Vec::new();
+    let mut counts = Vec::new();
+    for i in 0..60 {
+        let (x, z) = ((i % 8) as f32 * 0.3, (i / 8) as f32 * 0.3);
+        positions.extend((0..8).map(|k| Vec3::new(x, -(k as f32), z)));
+        counts.push(8);
+    }
+    for i in 0..3 {
+        positions.extend([Vec3::new(i as f32, 1.0, 0.0); 2]);
+        counts.push(2);
+    }
+    let hair = tress_hair::HairAsset::from_counts(positions, &counts).unwrap();
+    tress_hair::formats::write_path(&dir.join("bundle.hair"), &hair).unwrap();
+    let scene = dir.join("scene.toml");
+    std::fs::write(
+        &scene,
+        "technique = \"satf\"\n\
+         [camera]\neye = [20.0, -3.0, 20.0]\ntarget = [1.0, -3.5, 1.0]\n\
+         [output]\nwidth = 64\nheight = 48\n\
+         [[hair]]\nfiles = [\"bundle.hair\"]\n\
+         [satf]\ndatabase = \"db.satfdb\"\nclusters = \"fit\"\nst = 6\nsu = 6\n\
+         bake = { samples = 16, angles = 4, pixels = 8 }\n",
+    )
+    .unwrap();
+    let png = dir.join("out.png");
+    let out = tress(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--json",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("3 of the hair's strands are in no cluster (3 too short"),
+        "{stderr}"
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    let s = &v["satf"];
+    assert_eq!(s["cluster_strands"], 60);
+    assert_eq!(s["skipped_strands"]["total"], 3);
+    assert_eq!(s["skipped_strands"]["too_short"], 3);
+    assert_eq!(s["skipped_strands"]["degenerate"], 0);
+}

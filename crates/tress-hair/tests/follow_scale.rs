@@ -199,8 +199,22 @@ fn bear() -> HairAsset {
 #[test]
 fn mohawk_in_metres_keeps_its_bounds() {
     let guides = mohawk();
-    // The roots are 3.5 mm apart: far below the old fixed 0.3-unit radius.
     check("mohawk (metres)", &guides, 8);
+    // The reproduction reproduces the issue: the old fixed 0.3-unit radius throws followers
+    // 30 cm around roots 3.5 mm apart.
+    let old = guides
+        .with_follow_hairs(&FollowParams {
+            count: 8,
+            mode: FollowMode::Offset,
+            root_radius: tress_hair::FollowRadius::World(0.3),
+            seed: 1,
+            ..Default::default()
+        })
+        .unwrap();
+    let (f, g) = (old.bounds(), guides.bounds());
+    let grow = ((f.max - f.min) / (g.max - g.min)).max_element();
+    eprintln!("mohawk (metres), the old fixed radius 0.3: bounds {grow:.3}× the guides'");
+    assert!(grow > 2.0, "{grow}");
 }
 
 #[test]

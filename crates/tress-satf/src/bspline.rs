@@ -145,6 +145,26 @@ impl<P: ControlPoint> BSpline<P> {
     /// the module docs). Needs as many values as parameters, parameters finite in `[0, 1]`, at
     /// least one value, and `n_control` in `4..=MAX_CONTROL_POINTS`.
     pub fn fit(params: &[f32], values: &[P], n_control: usize) -> Result<Self, SatfError> {
+        Self::fit_weighted(params, values, None, n_control)
+    }
+
+    /// [`BSpline::fit`] with a non-negative weight per value (`None`: all 1), minimizing
+    /// `Σ w_j |C(t_j) - y_j|² + λ |D² c|²`; the weights must not all be zero.
+    pub fn fit_weighted(
+        params: &[f32],
+        values: &[P],
+        weights: Option<&[f32]>,
+        n_control: usize,
+    ) -> Result<Self, SatfError> {
+        if let Some(w) = weights
+            && (w.len() != values.len()
+                || w.iter().any(|w| !(w.is_finite() && *w >= 0.0))
+                || !w.iter().any(|w| *w > 0.0))
+        {
+            return Err(param(
+                "spline fit weights must be one finite non-negative weight per value, not all zero",
+            ));
+        }
         if params.len() != values.len() || values.is_empty() {
             return Err(param(format!(
                 "spline fit needs as many parameters as values (at least one), got {} and {}",
@@ -165,14 +185,16 @@ impl<P: ControlPoint> BSpline<P> {
         let n = n_control;
         let mut ata = vec![0.0f64; n * n];
         let mut atb = vec![0.0f64; n * P::DIM];
-        for (&t, v) in params.iter().zip(values) {
+        for (j, (&t, v)) in params.iter().zip(values).enumerate() {
+            let weight = weights.map_or(1.0, |w| f64::from(w[j]));
             let (first, w) = basis(n, t);
             for a in 0..4 {
                 for b in 0..4 {
-                    ata[(first + a) * n + first + b] += f64::from(w[a]) * f64::from(w[b]);
+                    ata[(first + a) * n + first + b] += weight * f64::from(w[a]) * f64::from(w[b]);
                 }
                 for d in 0..P::DIM {
-                    atb[(first + a) * P::DIM + d] += f64::from(w[a]) * f64::from(v.component(d));
+                    atb[(first + a) * P::DIM + d] +=
+                        weight * f64::from(w[a]) * f64::from(v.component(d));
                 }
             }
         }
@@ -438,6 +460,26 @@ mod tests {
         // A constant fitted from a single value.
         let c = BSpline::fit(&[0.5], &[2.5f32], 4).unwrap();
         assert!(close(c.eval(0.1), 2.5, 1e-4) && close(c.eval(0.9), 2.5, 1e-4));
+    }
+
+    #[test]
+    fn weights_scale_each_value() {
+        // Two clouds at the same parameters: the fit is their weighted mean, and weight 2 on a
+        // value is the same as the value twice.
+        let params: Vec<f32> = (0..20).map(|i| i as f32 / 19.0).collect();
+        let lo = vec![0.0f32; 20];
+        let hi = vec![3.0f32; 20];
+        let all_params = [params.clone(), params.clone()].concat();
+        let values = [lo.clone(), hi.clone()].concat();
+        let weights = [vec![2.0; 20], vec![1.0; 20]].concat();
+        let w = BSpline::fit_weighted(&all_params, &values, Some(&weights), 5).unwrap();
+        assert!(close(w.eval(0.3), 1.0, 1e-3), "{}", w.eval(0.3));
+        let twice = [params.clone(), params.clone(), params].concat();
+        let values = [lo.clone(), lo, hi].concat();
+        let d = BSpline::fit(&twice, &values, 5).unwrap();
+        assert!(close(d.eval(0.7), w.eval(0.7), 1e-4));
+        assert!(BSpline::fit_weighted(&[0.5], &[1.0f32], Some(&[0.0]), 4).is_err());
+        assert!(BSpline::fit_weighted(&[0.5], &[1.0f32], Some(&[-1.0]), 4).is_err());
     }
 
     #[test]

@@ -10,6 +10,10 @@ pub enum SatfError {
     /// A setting or argument is out of its range.
     #[error("invalid parameter: {0}")]
     Parameter(String),
+    /// The strands give no cluster geometry (no length, or a mean strand that collapses to a
+    /// point); [`crate::fit::fit_clusters`] then fits them one by one or counts them as skipped.
+    #[error("degenerate cluster: {0}")]
+    Degenerate(String),
     /// An error from the hair data layer (reading or building a strand asset).
     #[error(transparent)]
     Hair(#[from] HairError),

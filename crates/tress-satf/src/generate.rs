@@ -163,7 +163,10 @@ pub fn generate_clusters(head: &Head, style: &ClusterStyle) -> Result<HairVolume
             Ok(MacroCluster { geometry, clusters })
         })
         .collect::<Result<Vec<_>, SatfError>>()?;
-    Ok(HairVolume { macro_clusters })
+    Ok(HairVolume {
+        macro_clusters,
+        ..Default::default()
+    })
 }
 
 /// `p` moved out along its ellipsoid direction to level `target` if it lies below it.

@@ -181,6 +181,27 @@ pub struct VolumeStats {
     pub strands: usize,
     /// Hair shell volumes over all clusters (`H#`).
     pub hsvs: usize,
+    /// Strands of the source asset that are in no cluster, by reason.
+    pub skipped: SkippedStrands,
+}
+
+/// Strands of a source asset that a fit left out of the clusters, by reason
+/// ([`crate::fit::fit_clusters`]). Every other strand is in exactly one cluster.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct SkippedStrands {
+    /// Strands too short to have a direction: length at most 10⁻⁵ of their largest coordinate
+    /// (at least 1), a point or nearly one.
+    pub too_short: usize,
+    /// Strands that could not carry a cluster even alone (a trajectory that degenerates in
+    /// `f32`). Expected to stay 0; counted rather than dropped silently.
+    pub degenerate: usize,
+}
+
+impl SkippedStrands {
+    /// All skipped strands.
+    pub fn total(&self) -> usize {
+        self.too_short + self.degenerate
+    }
 }
 
 /// The whole hair volume (first level).
@@ -188,6 +209,8 @@ pub struct VolumeStats {
 pub struct HairVolume {
     /// The macro-clusters.
     pub macro_clusters: Vec<MacroCluster>,
+    /// Strands of the source asset left out of the clusters (a fitted volume; zero otherwise).
+    pub skipped: SkippedStrands,
 }
 
 impl HairVolume {
@@ -207,6 +230,7 @@ impl HairVolume {
             layers: clusters * sampling.layers() as usize,
             strands: self.clusters().map(|(_, c)| c.strands.len()).sum(),
             hsvs: clusters * sampling.hsv_count(),
+            skipped: self.skipped,
         }
     }
 
@@ -291,6 +315,7 @@ mod tests {
                 geometry: g,
                 clusters: vec![a, b],
             }],
+            ..Default::default()
         };
         let sampling = ShellSampling {
             st: 4,

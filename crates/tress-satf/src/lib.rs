@@ -53,5 +53,5 @@ pub mod shell;
 pub use cylinder::{GeneralizedCylinder, TwistMode};
 pub use database::{BakeSettings, Database, HrirRecord, LookupSettings, Params, bake};
 pub use error::{DatabaseError, SatfError};
-pub use hierarchy::{Cluster, HairVolume, LocalPoint, LocalStrand, MacroCluster};
+pub use hierarchy::{Cluster, HairVolume, LocalPoint, LocalStrand, MacroCluster, SkippedStrands};
 pub use shell::ShellSampling;

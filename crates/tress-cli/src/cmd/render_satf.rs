@@ -5,7 +5,8 @@
 //! fitted to the scene's hair or generated on its head (`satf.clusters`, see
 //! `tress_render::satf::scene`). The frame is rendered twice and the second is reported, so the
 //! timings exclude first-use costs; `--json` adds a `satf` object with the hierarchy's counts
-//! (Table 1's C#, L#, S#, H#), the CPU preparation times and the GPU milliseconds of Table 1's
+//! (Table 1's C#, L#, S#, H#), the strands the cluster fit left out (`skipped_strands`, also
+//! printed as a warning), the CPU preparation times and the GPU milliseconds of Table 1's
 //! stages (`stages_ms`: index calculation, map construction, texture mapping, lighting,
 //! shadowing) beside the keys every technique reports.
 
@@ -38,6 +39,8 @@ pub(crate) struct SatfReport {
     macro_clusters: usize,
     layers: u32,
     cluster_strands: usize,
+    /// Strands of the scene's hair in no cluster, by reason (`too_short`, `degenerate`).
+    skipped_strands: Skipped,
     hsvs: u32,
     uniform_hsvs: u32,
     interpolated_hsvs: u32,
@@ -48,6 +51,14 @@ pub(crate) struct SatfReport {
     features_cpu_ms: f64,
     /// GPU milliseconds of Table 1's stages (null without timestamps).
     stages_ms: Stages,
+}
+
+/// Strands the cluster fit left out, by reason.
+#[derive(Serialize)]
+struct Skipped {
+    total: usize,
+    too_short: usize,
+    degenerate: usize,
 }
 
 #[derive(Serialize)]
@@ -119,6 +130,11 @@ pub(crate) fn run(
         macro_clusters: counts.macro_clusters,
         layers: stats.layers,
         cluster_strands: counts.strands,
+        skipped_strands: Skipped {
+            total: counts.skipped.total(),
+            too_short: counts.skipped.too_short,
+            degenerate: counts.skipped.degenerate,
+        },
         hsvs: stats.hsvs,
         uniform_hsvs: stats.uniform_hsvs,
         interpolated_hsvs: stats.interpolated_hsvs,
@@ -146,6 +162,15 @@ pub(crate) fn run(
         passes(Some(&stats.timings)),
         stats.timings.total_ms(),
     );
+    if counts.skipped.total() > 0 {
+        eprintln!(
+            "tress: satf: {} of the hair's strands are in no cluster ({} too short to have a \
+             direction, {} degenerate)",
+            counts.skipped.total(),
+            counts.skipped.too_short,
+            counts.skipped.degenerate
+        );
+    }
     if json {
         let report = Report {
             satf: Some(r),

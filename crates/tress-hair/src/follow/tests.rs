@@ -245,6 +245,9 @@ fn followers_fill_the_scalp_at_any_scale() {
                 );
                 let even = median_spacing(&roots(&followed))
                     / (guide_spacing / (count as f32 + 1.0).sqrt());
+                eprintln!(
+                    "scale {scale}, {mode:?} × {count}: spacing ratio {even:.3}, bounds {b:.3}×"
+                );
                 assert!(
                     even >= ratio,
                     "{mode:?} ×{count} at scale {scale}: spacing ratio {even} < {ratio}"

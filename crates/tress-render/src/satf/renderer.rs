@@ -17,6 +17,7 @@ use std::cell::Cell;
 use std::time::Instant;
 
 use glam::Vec3;
+use tress_satf::SkippedStrands;
 use tress_satf::online::ShadowApprox;
 
 use super::cluster_shadow::ShadowTargets;
@@ -71,6 +72,11 @@ pub struct SatfFrameStats {
     pub uniform_hsvs: u32,
     /// HSVs interpolated by equation 7.
     pub interpolated_hsvs: u32,
+    /// Strands in the clusters drawn.
+    pub strands: usize,
+    /// Strands of the source asset that the cluster fit left out, by reason (zero for generated
+    /// clusters).
+    pub skipped_strands: SkippedStrands,
     /// Per-pass GPU times ([`PASS_NAMES`]).
     pub timings: Timings,
 }
@@ -603,6 +609,8 @@ impl SatfRenderer {
             hsvs: l.map_or(0, |l| l.hsvs()),
             uniform_hsvs: counters.uniform_hsvs,
             interpolated_hsvs: counters.interpolated_hsvs,
+            strands: geometry.map_or(0, |g| g.stats().strands),
+            skipped_strands: geometry.map_or_else(SkippedStrands::default, |g| g.stats().skipped),
             timings,
         })
     }

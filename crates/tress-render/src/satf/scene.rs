@@ -21,7 +21,7 @@
 //! database = "hair.satfdb"      # absent: a cache file named by the bake settings
 //! bake = { samples = 2048, angles = 16, pixels = 16, seed = 0, max_strands = 48 }
 //! clusters = "auto"             # auto | fit | generate
-//! fit = { strands_per_cluster = 256, control_points = 8, axis_quantile = 0.95 }
+//! fit = { strands_per_cluster = 256, control_points = 8, axis_quantile = 0.95, stray_split = 0.75, max_clusters = 512 }
 //! generate = { macro_clusters = 12, clusters_per_macro = 5, strands_per_cluster = 150 }
 //! st = 16                       # equation 3: s_t, s_v, s_u; the innermost core_rings are the core
 //! sv = 4
@@ -94,6 +94,8 @@ struct FitTable {
     profile_bins: Option<u32>,
     axis_quantile: Option<f32>,
     min_radius: Option<f32>,
+    stray_split: Option<f32>,
+    max_clusters: Option<u32>,
 }
 
 /// `[satf.generate]`.
@@ -269,8 +271,12 @@ pub fn satf_settings(scene: &Scene) -> Result<SatfScene, RenderError> {
         profile_control_points,
         profile_bins,
         axis_quantile,
-        min_radius
+        stray_split,
+        max_clusters
     );
+    if let Some(r) = f.min_radius {
+        fit.min_radius = Some(r);
+    }
     fit.validate()
         .map_err(|e| invalid(format!("satf.fit: {e}")))?;
     let mut style = ClusterStyle::default();
@@ -381,6 +387,22 @@ mod tests {
                 .unwrap_err()
                 .to_string()
                 .contains("satf.clusters")
+        );
+        let scene = Scene::from_str(
+            "[satf]\nclusters = \"fit\"\nfit = { min_radius = 0.002, stray_split = 0.5 }\n",
+            ".",
+        )
+        .unwrap();
+        let ClusterSource::Fit(fit) = satf_settings(&scene).unwrap().clusters else {
+            panic!("satf.clusters = \"fit\" fits")
+        };
+        assert_eq!((fit.min_radius, fit.stray_split), (Some(0.002), 0.5));
+        let bad = Scene::from_str("[satf]\nfit = { stray_split = -1 }\n", ".").unwrap();
+        assert!(
+            satf_settings(&bad)
+                .unwrap_err()
+                .to_string()
+                .contains("stray_split")
         );
         let bad = Scene::from_str("[satf]\nbake = { samples = 0 }\n", ".").unwrap();
         assert!(

@@ -3,8 +3,15 @@
 //!
 //! # Implementation
 //!
+//! Xu et al. 2006 model hair as clusters whose strands all run inside a generalized cylinder
+//! (§3.2, equations 1–2); the paper builds them with a modelling tool. Here they are recovered
+//! from strands, which may have very different lengths in one cluster, be very short, fold back
+//! on themselves, be perfectly straight, or stand alone.
+//!
 //! 1. **Resampling.** Every strand is resampled to [`FitSettings::fit_samples`] points evenly
-//!    spaced in arc length. Strands shorter than 10⁻⁶ are left out (they have no direction).
+//!    spaced in arc length. A strand whose length is not above 10⁻⁵ of its largest coordinate
+//!    (at least 1) has no reliable direction in `f32`: it is left out and counted in
+//!    [`SkippedStrands::too_short`].
 //! 2. **Grouping.** Strands are grouped by proximity of the points at
 //!    [`FitSettings::grouping_samples`] arc-length fractions (1: the roots only; the default 3:
 //!    root, middle and tip, so strands that part ways land in different clusters): a k-d split
@@ -12,27 +19,84 @@
 //!    [`FitSettings::strands_per_cluster`] strands. The cut lies at the widest gap between
 //!    neighbours within the middle half of the sorted strands, so separate bundles are not cut
 //!    through while groups stay balanced. Deterministic and `O(n log² n)`.
-//! 3. **Trajectory.** The group's mean strand (the average of corresponding resampled points) is
-//!    fitted in the least-squares sense by a cubic B-spline of [`FitSettings::control_points`]
-//!    control points, parameterized by its chord length.
-//! 4. **Local coordinates.** Each resampled point is projected onto the trajectory (closest point,
-//!    searched from the point's own arc-length fraction) giving `t` and in-plane offsets `(x, y)`
-//!    in the rotation-minimizing frame.
-//! 5. **Ellipse.** The offsets are binned in [`FitSettings::profile_bins`] bins of `t`. In each
-//!    bin, the principal axes of the second moments about the trajectory (a 2×2 PCA) give the twist
-//!    `q` (unwrapped modulo π from bin to bin) and standard deviations `σ₁ ≥ σ₂`; the half-axes are
-//!    `A = c σ₁`, `B = c σ₂` with `c` the [`FitSettings::axis_quantile`] quantile of the points'
-//!    Mahalanobis radii, so that fraction of the points lies inside, and neither is below
-//!    [`FitSettings::min_radius`]. With [`TwistMode::Phase`] the axes cannot turn: `q = 0` and the
-//!    moments are taken along the frame's axes. Empty bins copy their nearest neighbour.
-//!    `A`, `B` and `q` are fitted by splines of [`FitSettings::profile_control_points`]; where
-//!    the smooth spline cuts inside a bin's quantile, that bin's half-axes are widened by the
-//!    shortfall and the splines refitted (up to 3 rounds).
+//! 3. **Trajectory.** A cubic B-spline of [`FitSettings::control_points`] control points is
+//!    fitted in the least-squares sense to *every* point of the group, a point at arc length `σ`
+//!    from its root taking the parameter `σ / L_max` (`L_max`: the group's longest strand). With
+//!    strands of one length this is the fit to the group's mean strand; with strands of very
+//!    different lengths, the trajectory runs as far as the longest one and is the mean of the
+//!    strands that reach each parameter, instead of a mean that ends at the average tip.
+//! 4. **Local coordinates.** Each point is projected onto the trajectory (the closest point,
+//!    searched downhill from the trajectory point of its own parameter, so a strand folding back
+//!    on itself keeps each leg on its own part of the curve), giving `t` and in-plane offsets
+//!    `(x, y)` in the rotation-minimizing frame. Points whose closest point is an end of the
+//!    trajectory but lie beyond it (roots spread along the hair's direction, a short strand
+//!    starting ahead of the others) would lose that distance; the trajectory is extended along
+//!    its end tangents to the farthest such point and the points projected again, so every
+//!    point, tips included, lies in a normal plane of the trajectory.
+//! 5. **Ellipse.** The offsets are binned in [`FitSettings::profile_bins`] bins of `t`. The twist
+//!    `q` is each bin's principal direction (a 2×2 PCA of the second moments about the
+//!    trajectory), unwrapped modulo π, taken only from bins elongated enough for a direction to
+//!    mean something (anisotropy `(σ₁ - σ₂)/(σ₁ + σ₂) ≥ 0.1`; the others copy their nearest such
+//!    bin, and a round cluster gets none), fitted by a spline of
+//!    [`FitSettings::profile_control_points`]. The half-axes are then measured *along the fitted
+//!    twist's axes*: standard deviations `σ_x`, `σ_y`, scaled by the
+//!    [`FitSettings::axis_quantile`] quantile `c` of the points' Mahalanobis radii, so that
+//!    fraction of the points lies inside: `A = c σ_x`, `B = c σ_y`. Each is kept in
+//!    `[min_radius, 1.25 r_max]`, `r_max` the bin's farthest point from the trajectory. With
+//!    [`TwistMode::Phase`] the axes cannot turn: `q = 0`. `A` and `B` are fitted by splines
+//!    whose control points are clamped to `[min_radius, 1.25 max r_max]` (a B-spline lies in the hull
+//!    of its control points, so no overshoot between or beyond the bins), the two end control
+//!    points (which the spline equals at `t = 0` and `t = 1`) to 1.25 times the farthest point
+//!    within half a bin of that end, so where roots or tips are staggered the end ring closes on the first
+//!    root or the last tip instead of a whole cross-section off it; where the smooth
+//!    spline cuts inside a bin's quantile, that bin's half-axes are widened by the shortfall (up
+//!    to the limit) and the splines refitted (up to 8 rounds). The shell `v = 1` therefore never
+//!    lies farther from the trajectory than 1.25 times the cluster's farthest strand point.
 //! 6. **Density level.** Each point's `(v, u)` inverts equation 1; `v` is clamped to 1 for the
 //!    points outside the quantile. Every fitted cluster is its own macro-cluster with the identity
 //!    transform: arbitrary assets rarely hold exact copies of a geometry.
+//! 7. **Splitting where the shell strays.** An ellipse swept along a curve cannot follow a
+//!    sheet of hair curved across its width, as the scalp part of a ponytail is where a group's
+//!    roots cover a patch of the head: its rim stands off the sheet by the patch's sagitta. So
+//!    each fitted group's shell (`v = 1` on 16 points around the root ring and around the rings
+//!    at the middles of 16 intervals of `t`; not the tip ring, which closes over staggered tips
+//!    whatever the split) is measured against the group's strands, and where some shell point
+//!    lies farther from every strand than [`FitSettings::stray_split`] (0.75) of the
+//!    cross-section's larger half-axis there (and than ten minimum half-axes: 1% of the hair's
+//!    diagonal by default, a pixel or two, not worth a cluster), the group is cut in two at its
+//!    widest gap (as in step 2) and both halves are fitted again, down to groups of 8 strands.
+//!    Halving a patch's width quarters its sagitta. The groups are split in rounds, the worst
+//!    first, while the clusters number at most [`FitSettings::max_clusters`] (512): each
+//!    cluster's layer mesh takes GPU memory, and splitting every group of a 50,000-strand asset
+//!    to the end gives thousands.
+//!
+//! A group whose strands give no trajectory (their mean has no length, e.g. strands leaving one
+//! root in opposite directions) is fitted strand by strand instead; a strand that cannot carry a
+//! cluster even alone is counted in [`SkippedStrands::degenerate`]. Every input strand is thus
+//! in a cluster or counted in [`HairVolume::skipped`].
+//!
+//! **Why the old fit drew fans and spikes.** The half-axes used to be measured along each bin's
+//! own principal direction, while the ellipse is drawn along the *fitted twist spline's*
+//! direction. In flat, ribbon-like clusters whose principal direction wobbles (near-round bins
+//! have a random PCA angle that the unwrapping and the smooth spline carried into their
+//! neighbours), the drawn ellipse's short axis lay along the points' long spread, every point
+//! then had a radius `v ≫ 1`, and the widening rounds multiplied *both* axes by that ratio: on
+//! the demo ponytail one cluster's `A(0)` reached 39 units, more than the head is wide, while its
+//! strands lie within 1.7 units of the trajectory. That ellipse swept the spike above the head in
+//! the quality report, and on real ponytails the fans from the bottom of the hair. Two more
+//! causes drew shells where no strand is: the trajectory was fitted to the mean strand, which for
+//! strands of different lengths ends at their average tip (every longer strand's tip was then
+//! measured in the end plane, far off-axis), and groups were bounded by count alone, so a group of
+//! a few guides could span a patch of scalp far wider than its curvature allows (step 7). The
+//! minimum half-axis was also a fixed 0.05 world units, a 5 cm tube around every cluster of an
+//! asset modelled in metres; it is now relative to the asset ([`FitSettings::min_radius`]).
 
-use std::f32::consts::PI;
+mod group;
+mod profile;
+mod split;
+mod stray;
+#[cfg(test)]
+mod tests;
 
 use glam::{Affine3A, Vec2, Vec3};
 use rayon::prelude::*;
@@ -41,10 +105,20 @@ use tress_hair::HairAsset;
 use crate::bspline::BSpline;
 use crate::cylinder::{GeneralizedCylinder, TwistMode, ellipse_vu};
 use crate::error::{SatfError, in_open_closed, param};
-use crate::hierarchy::{Cluster, HairVolume, LocalPoint, LocalStrand, MacroCluster};
+use crate::hierarchy::{
+    Cluster, HairVolume, LocalPoint, LocalStrand, MacroCluster, SkippedStrands,
+};
 
-/// Rounds of widening the half-axes where the splines cut inside a bin's quantile.
-const PROFILE_ROUNDS: usize = 3;
+pub use group::{group_strands, resample};
+
+/// Groups are not split below this many strands (step 7).
+const MIN_SPLIT_STRANDS: usize = 8;
+/// Default smallest half-axis, as a fraction of the diagonal of the hair's bounding box.
+pub const MIN_RADIUS_FRACTION: f32 = 1e-3;
+/// Most control points a trajectory gets when the setting's number misses the strands' mean.
+const MAX_TRAJECTORY_CONTROL_POINTS: usize = 64;
+/// Polyline samples of a trajectory when it is extended past its ends (step 4).
+const EXTENSION_SAMPLES: usize = 64;
 
 /// Settings of [`fit_clusters`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -57,16 +131,25 @@ pub struct FitSettings {
     pub fit_samples: u32,
     /// Control points of the trajectory. Default 8.
     pub control_points: u32,
-    /// Control points of `A`, `B` and `q`. Default 4.
+    /// Control points of `A`, `B` and `q`. Default 8.
     pub profile_control_points: u32,
-    /// Bins along `t` for the ellipse fit. Default 8.
+    /// Bins along `t` for the ellipse fit. Default 16.
     pub profile_bins: u32,
     /// Fraction of the points inside the fitted ellipse. Default 0.95.
     pub axis_quantile: f32,
-    /// Smallest half-axis (world units). Default 0.05.
-    pub min_radius: f32,
+    /// Smallest half-axis (world units): the tube around a cluster of one strand. Default
+    /// `None`: [`MIN_RADIUS_FRACTION`] of the diagonal of the hair's bounding box (0.05 on the
+    /// generated ponytail, 1 mm on a head modelled in metres).
+    pub min_radius: Option<f32>,
     /// How the twist acts. Default [`TwistMode::RotateAxes`].
     pub twist_mode: TwistMode,
+    /// Split a group in two while some point of its shell lies farther from every strand than
+    /// this fraction of the cross-section's larger half-axis there (step 7; 0: never split).
+    /// Default 0.75.
+    pub stray_split: f32,
+    /// Most clusters step 7 splits groups into (each cluster's layer mesh takes GPU memory);
+    /// the groups of step 2 are all kept even above it. Default 512.
+    pub max_clusters: u32,
 }
 
 impl Default for FitSettings {
@@ -76,11 +159,13 @@ impl Default for FitSettings {
             grouping_samples: 3,
             fit_samples: 16,
             control_points: 8,
-            profile_control_points: 4,
-            profile_bins: 8,
+            profile_control_points: 8,
+            profile_bins: 16,
             axis_quantile: 0.95,
-            min_radius: 0.05,
+            min_radius: None,
             twist_mode: TwistMode::RotateAxes,
+            stray_split: 0.75,
+            max_clusters: 512,
         }
     }
 }
@@ -88,7 +173,7 @@ impl Default for FitSettings {
 impl FitSettings {
     /// Check ranges: group size ≥ 1, 1..=16 grouping samples, 4..=1024 fit samples, control points
     /// in `4..=fit_samples`, profile control points in 4..=64, 1..=256 bins, quantile in `(0, 1]`,
-    /// positive finite minimum radius.
+    /// a positive finite minimum radius when one is given.
     pub fn validate(&self) -> Result<(), SatfError> {
         if self.strands_per_cluster == 0 || !(1..=16).contains(&self.grouping_samples) {
             return Err(param(
@@ -109,252 +194,167 @@ impl FitSettings {
                 "profile_control_points must be in 4..=64 and profile_bins in 1..=256",
             ));
         }
-        if !in_open_closed(self.axis_quantile, 1.0) || !in_open_closed(self.min_radius, f32::MAX) {
+        let radius_ok = self.min_radius.is_none_or(|r| in_open_closed(r, f32::MAX));
+        if !in_open_closed(self.axis_quantile, 1.0) || !radius_ok {
             return Err(param(
                 "axis_quantile must be in (0, 1] and min_radius positive",
             ));
+        }
+        if !(self.stray_split.is_finite() && self.stray_split >= 0.0) {
+            return Err(param("stray_split must be finite and non-negative"));
+        }
+        if self.max_clusters == 0 {
+            return Err(param("max_clusters must be at least 1"));
         }
         Ok(())
     }
 }
 
-/// `n ≥ 2` points evenly spaced in arc length along `strand`, or `None` for a strand shorter than 10⁻⁶.
-pub fn resample(strand: &[Vec3], n: usize) -> Option<Vec<Vec3>> {
-    let mut cum = Vec::with_capacity(strand.len());
-    let mut acc = 0.0f32;
-    cum.push(0.0);
-    for w in strand.windows(2) {
-        acc += w[0].distance(w[1]);
-        cum.push(acc);
-    }
-    if !acc.is_finite() || acc < 1e-6 {
-        return None;
-    }
-    let mut seg = 0usize;
-    Some(
-        (0..n)
-            .map(|k| {
-                let target = acc * k as f32 / (n - 1) as f32;
-                while seg + 2 < cum.len() && cum[seg + 1] < target {
-                    seg += 1;
-                }
-                let (a, b) = (cum[seg], cum[seg + 1]);
-                let f = if b > a {
-                    ((target - a) / (b - a)).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                strand[seg].lerp(strand[seg + 1], f)
-            })
-            .collect(),
-    )
-}
-
-/// Group strand indices (see the module docs, step 2). `resampled[i]` holds strand `i`'s points.
-pub fn group_strands(resampled: &[Vec<Vec3>], settings: &FitSettings) -> Vec<Vec<u32>> {
-    let g = settings.grouping_samples as usize;
-    let key = |s: &Vec<Vec3>| -> Vec<f32> {
-        let n = s.len();
-        (0..g)
-            .flat_map(|k| {
-                let idx = if g == 1 { 0 } else { k * (n - 1) / (g - 1) };
-                s[idx].to_array()
-            })
-            .collect()
-    };
-    let keys: Vec<Vec<f32>> = resampled.par_iter().map(key).collect();
-    let dims = 3 * g;
-    let max = settings.strands_per_cluster as usize;
-    let mut out = Vec::new();
-    let mut stack = vec![(0..resampled.len() as u32).collect::<Vec<u32>>()];
-    while let Some(mut group) = stack.pop() {
-        if group.len() <= max {
-            if !group.is_empty() {
-                out.push(group);
-            }
-            continue;
-        }
-        let widest = (0..dims)
-            .max_by(|&a, &b| {
-                let ext = |d: usize| {
-                    let (lo, hi) =
-                        group
-                            .iter()
-                            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &i| {
-                                let x = keys[i as usize][d];
-                                (lo.min(x), hi.max(x))
-                            });
-                    hi - lo
-                };
-                ext(a).total_cmp(&ext(b))
-            })
-            .unwrap_or(0);
-        group.sort_unstable_by(|&a, &b| {
-            keys[a as usize][widest]
-                .total_cmp(&keys[b as usize][widest])
-                .then(a.cmp(&b))
-        });
-        let mid = split_index(&group, |i| keys[i as usize][widest]);
-        let right = group.split_off(mid);
-        stack.push(right);
-        stack.push(group);
-    }
-    out
-}
-
-/// Fit clusters to every strand of `asset` (see the module docs).
+/// Fit clusters to every strand of `asset` (see the module docs). Strands left out are counted
+/// in the result's [`HairVolume::skipped`]; an asset none of whose strands can be fitted is an
+/// error.
 pub fn fit_clusters(asset: &HairAsset, settings: &FitSettings) -> Result<HairVolume, SatfError> {
     settings.validate()?;
+    let bounds = asset.bounds();
+    let settings = FitSettings {
+        min_radius: Some(resolved_min_radius(settings, bounds.max - bounds.min)),
+        ..*settings
+    };
     let n = settings.fit_samples as usize;
     let resampled: Vec<Option<Vec<Vec3>>> = (0..asset.strand_count())
         .into_par_iter()
-        .map(|i| resample(asset.strand(i), n))
+        .map(|i| {
+            let strand = asset.strand(i);
+            group::long_enough(strand)
+                .then(|| resample(strand, n))
+                .flatten()
+        })
         .collect();
+    let too_short = resampled.iter().filter(|r| r.is_none()).count();
     let kept: Vec<Vec<Vec3>> = resampled.into_iter().flatten().collect();
     if kept.is_empty() {
-        return Err(param("no strand of the asset is longer than 1e-6"));
+        return Err(param(format!(
+            "none of the {} strands is long enough to fit a cluster to",
+            asset.strand_count()
+        )));
     }
-    let groups = group_strands(&kept, settings);
-    let macro_clusters = groups
-        .par_iter()
-        .map(|g| {
-            let strands: Vec<&[Vec3]> = g.iter().map(|&i| kept[i as usize].as_slice()).collect();
-            fit_cluster(&strands, settings)
-        })
-        .collect::<Result<Vec<_>, _>>()?
-        .into_iter()
-        .flatten()
-        .collect();
-    Ok(HairVolume { macro_clusters })
+    let groups = group_strands(&kept, &settings);
+    let (macro_clusters, degenerate) = split::fit_groups(&kept, groups, &settings)?;
+    Ok(HairVolume {
+        macro_clusters,
+        skipped: SkippedStrands {
+            too_short,
+            degenerate,
+        },
+    })
 }
 
-/// Fit one cluster to strands resampled to the same count (steps 3–6); `None` when the group's
-/// mean strand has no length.
-pub fn fit_cluster(
-    strands: &[&[Vec3]],
-    settings: &FitSettings,
-) -> Result<Option<MacroCluster>, SatfError> {
-    let Some(first) = strands.first() else {
-        return Ok(None);
-    };
-    let n = first.len();
-    if n < 2 || strands.iter().any(|s| s.len() != n) {
-        return Err(param(
-            "fit_cluster needs strands of one common sample count (at least 2)",
-        ));
+/// The smallest half-axis: the setting, or [`MIN_RADIUS_FRACTION`] of the diagonal `extent`
+/// (at least a positive `f32`).
+fn resolved_min_radius(settings: &FitSettings, extent: Vec3) -> f32 {
+    settings
+        .min_radius
+        .unwrap_or(MIN_RADIUS_FRACTION * extent.length())
+        .max(f32::MIN_POSITIVE)
+}
+
+/// Fit one cluster to `strands` (steps 3–6 of the module docs), each strand at least two
+/// points, root first, ideally evenly spaced in arc length ([`resample`]). Strands that give no
+/// trajectory are a [`SatfError::Degenerate`] error. Without [`FitSettings::min_radius`] the
+/// smallest half-axis is [`MIN_RADIUS_FRACTION`] of the strands' own bounding-box diagonal.
+pub fn fit_cluster(strands: &[&[Vec3]], settings: &FitSettings) -> Result<MacroCluster, SatfError> {
+    if strands.is_empty() {
+        return Err(SatfError::Degenerate("a cluster needs a strand".into()));
     }
-    let inv = 1.0 / strands.len() as f32;
-    let mut mean: Vec<Vec3> = (0..n)
-        .map(|k| strands.iter().map(|s| s[k]).sum::<Vec3>() * inv)
-        .collect();
-    if polyline_length(&mean) < 1e-6 {
-        mean = first.to_vec();
+    if strands.iter().any(|s| s.len() < 2) {
+        return Err(param("fit_cluster needs strands of at least two points"));
     }
-    let Some(params) = chord_params(&mean) else {
-        return Ok(None);
-    };
-    let trajectory = BSpline::fit(
-        &params,
-        &mean,
-        (settings.control_points as usize).min(n).max(4),
-    )?;
-    let one = BSpline::constant(1.0);
-    let zero = BSpline::constant(0.0);
-    let Ok(frame_only) = GeneralizedCylinder::new(
-        trajectory.clone(),
-        one.clone(),
-        one,
-        zero,
-        settings.twist_mode,
-    ) else {
-        return Ok(None);
-    };
-    // Step 4: t and in-plane offsets of every point.
-    let local: Vec<Vec<(f32, Vec2)>> = strands
+    let (lo, hi) = strands
         .iter()
-        .map(|s| {
-            s.iter()
-                .enumerate()
-                .map(|(k, p)| {
-                    let t = frame_only.closest_t(*p, k as f32 / (n - 1) as f32);
-                    let f = frame_only.frame(t);
-                    let d = *p - f.position;
-                    (t, Vec2::new(d.dot(f.normal), d.dot(f.binormal)))
-                })
-                .collect()
+        .flat_map(|s| s.iter())
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        });
+    let min_radius = resolved_min_radius(settings, hi - lo);
+    let degenerate = |e: SatfError| SatfError::Degenerate(e.to_string());
+
+    // Step 3: every point with parameter σ / L_max.
+    let arcs: Vec<Vec<f32>> = strands.iter().map(|s| cumulative_length(s)).collect();
+    let l_max = arcs
+        .iter()
+        .filter_map(|a| a.last().copied())
+        .fold(0.0f32, f32::max);
+    if !(l_max.is_finite() && l_max > 0.0) {
+        return Err(SatfError::Degenerate("the strands have no length".into()));
+    }
+    let params: Vec<f32> = arcs
+        .iter()
+        .flat_map(|a| a.iter().map(|s| (s / l_max).clamp(0.0, 1.0)))
+        .collect();
+    let points: Vec<Vec3> = strands.iter().flat_map(|s| s.iter().copied()).collect();
+    // Each point weighs its strand's sample spacing, so every strand counts by its length:
+    // sixteen samples of a short strand do not outweigh a long strand's one sample there.
+    let weights: Vec<f32> = arcs
+        .iter()
+        .flat_map(|a| {
+            let spacing = a.last().copied().unwrap_or(0.0) / (a.len() - 1).max(1) as f32;
+            std::iter::repeat_n((spacing / l_max).max(f32::MIN_POSITIVE), a.len())
         })
         .collect();
-    // Step 5: the ellipse per bin.
-    let bins = settings.profile_bins as usize;
-    let mut binned: Vec<Vec<Vec2>> = vec![Vec::new(); bins];
-    for (t, xy) in local.iter().flatten() {
-        binned[((t * bins as f32) as usize).min(bins - 1)].push(*xy);
+    // The setting's control points, but at most three for every four samples of the longest
+    // strand (more leave knot spans without data, and the spline wiggles between them); more
+    // than the setting, up to that bound, where the spline misses the strands' mean (a fold, a
+    // coherent curl).
+    let most_samples = strands.iter().map(|s| s.len()).max().unwrap_or(0);
+    let bound = (3 * most_samples / 4).max(4);
+    let mut n_control = (settings.control_points as usize).min(bound);
+    let max_control = bound.min(MAX_TRAJECTORY_CONTROL_POINTS);
+    let fit = |n: usize| BSpline::fit_weighted(&params, &points, Some(&weights), n);
+    let mut trajectory = fit(n_control)?;
+    while n_control < max_control
+        && misses_the_mean(&trajectory, &params, &points, &weights, n_control, l_max)
+    {
+        n_control = (2 * n_control).min(max_control);
+        trajectory = fit(n_control)?;
     }
-    let fits: Vec<Option<(f32, f32, f32)>> = binned
+    let axis = axis_only(trajectory, settings.twist_mode).map_err(degenerate)?;
+    let hints: Vec<f32> = params.iter().map(|&tau| axis.t_of(tau)).collect();
+    // Step 4: project, extend past the ends where points lie beyond them, project again.
+    let (axis, hints) = match extension(&axis, &points, &hints) {
+        Some((before, after)) => {
+            let extended = extend(&axis, before, after, n_control)?;
+            let extended = axis_only(extended, settings.twist_mode).map_err(degenerate)?;
+            let total = before + axis.length() + after;
+            let hints = hints
+                .iter()
+                .map(|&t| ((before + t * axis.length()) / total).clamp(0.0, 1.0))
+                .collect();
+            (extended, hints)
+        }
+        None => (axis, hints),
+    };
+    let offsets: Vec<profile::Offset> = points
         .iter()
-        .map(|pts| ellipse_fit(pts, settings))
+        .zip(&hints)
+        .map(|(&p, &hint)| {
+            let t = axis.closest_t(p, hint);
+            let f = axis.frame(t);
+            let d = p - f.position;
+            (t, Vec2::new(d.dot(f.normal), d.dot(f.binormal)))
+        })
         .collect();
-    let Some(filled) = fill_empty(&fits) else {
-        return Ok(None);
-    };
-    let centres: Vec<f32> = (0..bins).map(|b| (b as f32 + 0.5) / bins as f32).collect();
-    let mut q: Vec<f32> = filled.iter().map(|f| f.2).collect();
-    for b in 1..bins {
-        q[b] -= PI * ((q[b] - q[b - 1]) / PI).round();
-    }
-    let pc = settings.profile_control_points as usize;
-    let mut a_vals: Vec<f32> = filled.iter().map(|f| f.0).collect();
-    let mut b_vals: Vec<f32> = filled.iter().map(|f| f.1).collect();
-    let floor = |s: BSpline<f32>| -> Result<BSpline<f32>, SatfError> {
-        BSpline::new(
-            s.control_points()
-                .iter()
-                .map(|c| c.max(settings.min_radius))
-                .collect(),
-        )
-    };
-    let twist = BSpline::fit(&centres, &q, pc)?;
-    let build = |a: &[f32], b: &[f32]| -> Result<GeneralizedCylinder, SatfError> {
-        GeneralizedCylinder::new(
-            trajectory.clone(),
-            floor(BSpline::fit(&centres, a, pc)?)?,
-            floor(BSpline::fit(&centres, b, pc)?)?,
-            twist.clone(),
-            settings.twist_mode,
-        )
-    };
-    let mut geometry = build(&a_vals, &b_vals)?;
-    // The splines smooth over the bins and may cut inside a bin's quantile: widen those bins'
-    // targets by the shortfall and refit (a few rounds).
-    for _ in 0..PROFILE_ROUNDS {
-        let mut radii: Vec<Vec<f32>> = vec![Vec::new(); bins];
-        for &(t, xy) in local.iter().flatten() {
-            let (a, b, q) = geometry.profile(t);
-            radii[((t * bins as f32) as usize).min(bins - 1)]
-                .push(ellipse_vu(settings.twist_mode, a, b, q, xy).0);
-        }
-        let mut changed = false;
-        for (bin, r) in radii.iter_mut().enumerate() {
-            let Some(over) = quantile(r, settings.axis_quantile) else {
-                continue;
-            };
-            if over > 1.0 + 1e-3 {
-                a_vals[bin] *= over;
-                b_vals[bin] *= over;
-                changed = true;
-            }
-        }
-        if !changed {
-            break;
-        }
-        geometry = build(&a_vals, &b_vals)?;
-    }
+
+    // Step 5.
+    let geometry = profile::fit_profile(axis.trajectory(), &offsets, settings, min_radius)?;
+
     // Step 6: (v, u) of every point.
-    let strands = local
+    let mut next = offsets.iter();
+    let strands = strands
         .iter()
-        .map(|pts| {
-            let points = pts
-                .iter()
+        .map(|s| {
+            let points = next
+                .by_ref()
+                .take(s.len())
                 .map(|&(t, xy)| {
                     let (a, b, q) = geometry.profile(t);
                     let (v, u) = ellipse_vu(settings.twist_mode, a, b, q, xy);
@@ -368,260 +368,106 @@ pub fn fit_cluster(
             LocalStrand::new(points)
         })
         .collect::<Result<Vec<_>, _>>()?;
-    Ok(Some(MacroCluster {
+    Ok(MacroCluster {
         geometry,
         clusters: vec![Cluster::new(Affine3A::IDENTITY, strands)?],
-    }))
+    })
 }
 
-/// Where to cut a group sorted by `key`: at the widest gap between neighbours among the middle
-/// half of the positions (nearest the median among equals), so natural bundles stay whole.
-fn split_index(sorted: &[u32], key: impl Fn(u32) -> f32) -> usize {
-    let n = sorted.len();
-    let (lo, hi) = ((n / 4).max(1), (3 * n).div_ceil(4).min(n - 1));
-    let mid = n / 2;
-    (lo..=hi)
-        .map(|i| (i, key(sorted[i]) - key(sorted[i - 1])))
-        .max_by(|a, b| {
-            a.1.total_cmp(&b.1)
-                .then(b.0.abs_diff(mid).cmp(&a.0.abs_diff(mid)))
-        })
-        .map_or(mid, |(i, _)| i)
-}
-
-fn polyline_length(p: &[Vec3]) -> f32 {
-    p.windows(2).map(|w| w[0].distance(w[1])).sum()
-}
-
-fn chord_params(p: &[Vec3]) -> Option<Vec<f32>> {
-    let total = polyline_length(p);
-    if !total.is_finite() || total < 1e-6 {
-        return None;
+/// Whether `trajectory` misses the weighted mean of the `points` (at their parameters): over
+/// `2 n_control` bins of the parameter, the mean residual `p - T(τ)` of some bin is longer than
+/// 15% of the points' RMS distance from the curve plus 10⁻⁴ of the length. A curve through the strands'
+/// mean leaves residuals that average out in every bin; one too stiff for a fold leaves a
+/// systematic offset on either side of it.
+fn misses_the_mean(
+    trajectory: &BSpline<Vec3>,
+    params: &[f32],
+    points: &[Vec3],
+    weights: &[f32],
+    n_control: usize,
+    length: f32,
+) -> bool {
+    let bins = 2 * n_control;
+    let mut sums = vec![(Vec3::ZERO, 0.0f32); bins];
+    let (mut square, mut total) = (0.0f64, 0.0f64);
+    for ((&tau, &p), &w) in params.iter().zip(points).zip(weights) {
+        let r = p - trajectory.eval(tau);
+        square += f64::from(w * r.length_squared());
+        total += f64::from(w);
+        let b = ((tau * bins as f32) as usize).min(bins - 1);
+        sums[b].0 += w * r;
+        sums[b].1 += w;
     }
-    let mut acc = 0.0;
-    let mut out = vec![0.0];
-    for w in p.windows(2) {
-        acc += w[0].distance(w[1]);
-        out.push((acc / total).min(1.0));
-    }
-    Some(out)
+    let rms = (square / total.max(f64::MIN_POSITIVE)).sqrt() as f32;
+    let tol = 0.15 * rms + 1e-4 * length;
+    sums.iter()
+        .any(|&(sum, weight)| weight > 0.0 && (sum / weight).length() > tol)
 }
 
-/// The `q`-quantile of `values` (reordered), `None` when empty.
-fn quantile(values: &mut [f32], q: f32) -> Option<f32> {
-    if values.is_empty() {
-        return None;
-    }
-    let k = ((q * values.len() as f32).ceil() as usize).clamp(1, values.len()) - 1;
-    let (_, x, _) = values.select_nth_unstable_by(k, f32::total_cmp);
-    Some(*x)
-}
-
-/// `(A, B, q)` of one bin's offsets (step 5), or `None` for an empty bin.
-fn ellipse_fit(pts: &[Vec2], s: &FitSettings) -> Option<(f32, f32, f32)> {
-    if pts.is_empty() {
-        return None;
-    }
-    let inv = 1.0 / pts.len() as f32;
-    let sxx = pts.iter().map(|p| p.x * p.x).sum::<f32>() * inv;
-    let syy = pts.iter().map(|p| p.y * p.y).sum::<f32>() * inv;
-    let sxy = pts.iter().map(|p| p.x * p.y).sum::<f32>() * inv;
-    let q = match s.twist_mode {
-        TwistMode::RotateAxes => 0.5 * (2.0 * sxy).atan2(sxx - syy),
-        TwistMode::Phase => 0.0,
-    };
-    let (c, sn) = (q.cos(), q.sin());
-    let var1 = c * c * sxx + 2.0 * c * sn * sxy + sn * sn * syy;
-    let var2 = sn * sn * sxx - 2.0 * c * sn * sxy + c * c * syy;
-    let floor = 0.5 * s.min_radius;
-    let (s1, s2) = (
-        var1.max(0.0).sqrt().max(floor),
-        var2.max(0.0).sqrt().max(floor),
-    );
-    let mut radii: Vec<f32> = pts
-        .iter()
-        .map(|p| {
-            let r = Vec2::from_angle(-q).rotate(*p);
-            (r.x / s1).hypot(r.y / s2)
-        })
-        .collect();
-    let c_q = quantile(&mut radii, s.axis_quantile)?.max(1e-3);
-    Some((
-        (c_q * s1).max(s.min_radius),
-        (c_q * s2).max(s.min_radius),
-        q,
-    ))
-}
-
-/// Empty bins copy the nearest non-empty one; `None` if all are empty.
-fn fill_empty(fits: &[Option<(f32, f32, f32)>]) -> Option<Vec<(f32, f32, f32)>> {
-    let present: Vec<usize> = (0..fits.len()).filter(|&i| fits[i].is_some()).collect();
-    if present.is_empty() {
-        return None;
-    }
-    Some(
-        (0..fits.len())
-            .map(|i| {
-                let j = present
-                    .iter()
-                    .copied()
-                    .min_by_key(|&j| j.abs_diff(i))
-                    .unwrap_or(i);
-                fits[j].unwrap_or((1.0, 1.0, 0.0))
-            })
-            .collect(),
+/// The cylinder of unit radius about `trajectory`: its frames, arc length and projections.
+fn axis_only(trajectory: BSpline<Vec3>, mode: TwistMode) -> Result<GeneralizedCylinder, SatfError> {
+    GeneralizedCylinder::new(
+        trajectory,
+        BSpline::constant(1.0),
+        BSpline::constant(1.0),
+        BSpline::constant(0.0),
+        mode,
     )
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use tress_hair::rng::Rng;
-
-    /// Strands uniformly filling a straight elliptic tube along -y: half-axes 2 and 1, major
-    /// axis turned 30° from +x toward +z.
-    fn tube(count: usize) -> Vec<Vec<Vec3>> {
-        let mut rng = Rng::new(3);
-        let q = 30f32.to_radians();
-        (0..count)
-            .map(|_| {
-                let d = rng.in_disk();
-                let xy = Vec2::from_angle(q).rotate(Vec2::new(2.0 * d.x, d.y));
-                (0..16)
-                    .map(|k| Vec3::new(5.0 + xy.x, -(k as f32), xy.y))
-                    .collect()
-            })
-            .collect()
-    }
-
-    #[test]
-    fn resample_by_arc_length() {
-        let s = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 3.0, 0.0)];
-        let r = resample(&s, 5).unwrap();
-        assert_eq!(r[0], Vec3::ZERO);
-        assert!((r[1] - Vec3::X).length() < 1e-6);
-        assert!((r[2] - Vec3::new(1.0, 1.0, 0.0)).length() < 1e-6);
-        assert!((r[4] - s[2]).length() < 1e-6);
-        assert!(resample(&[Vec3::ONE, Vec3::ONE], 4).is_none());
-    }
-
-    #[test]
-    fn grouping_splits_at_medians() {
-        // 8 strands whose roots sit at x = 0..8: groups of at most 2 are consecutive pairs.
-        let strands: Vec<Vec<Vec3>> = (0..8)
-            .map(|i| {
-                vec![
-                    Vec3::new(i as f32, 0.0, 0.0),
-                    Vec3::new(i as f32, -1.0, 0.0),
-                ]
-            })
-            .collect();
-        let s = FitSettings {
-            strands_per_cluster: 2,
-            grouping_samples: 1,
-            ..Default::default()
-        };
-        let mut groups = group_strands(&strands, &s);
-        for g in &mut groups {
-            g.sort();
-        }
-        groups.sort();
-        assert_eq!(groups, vec![vec![0, 1], vec![2, 3], vec![4, 5], vec![6, 7]]);
-    }
-
-    #[test]
-    fn fits_an_elliptic_tube() {
-        let strands = tube(400);
-        let refs: Vec<&[Vec3]> = strands.iter().map(|s| s.as_slice()).collect();
-        let s = FitSettings {
-            axis_quantile: 1.0,
-            ..Default::default()
-        };
-        let m = fit_cluster(&refs, &s).unwrap().unwrap();
-        let g = &m.geometry;
-        assert!((g.length() - 15.0).abs() < 0.2, "length {}", g.length());
-        let (a, b, q) = g.profile(0.5);
-        assert!(
-            (a - 2.0).abs() < 0.15 && (b - 1.0).abs() < 0.1,
-            "A {a} B {b}"
-        );
-        // The major axis direction (cos q n + sin q b) is ±(cos 30°, 0, sin 30°).
-        let f = g.frame(0.5);
-        let axis = q.cos() * f.normal + q.sin() * f.binormal;
-        let want = Vec3::new(30f32.to_radians().cos(), 0.0, 30f32.to_radians().sin());
-        assert!(axis.dot(want).abs() > 0.995, "axis {axis}");
-        // Every strand point maps back to itself through (t, v, u).
-        let c = &m.clusters[0];
-        for (strand, local) in strands.iter().zip(c.strands()) {
-            for (p, l) in strand.iter().zip(local.points()) {
-                assert!(l.v <= 1.0);
-                assert!(
-                    (c.point(g, l.t, l.v, l.u) - *p).length() < 0.02,
-                    "{p} vs {l:?}"
-                );
-            }
+/// How far points lie before the trajectory's start and past its end, along the end tangents,
+/// among the points whose closest trajectory point is that end; `None` when none lies beyond
+/// either end by more than 10⁻⁴ of the trajectory's length.
+fn extension(axis: &GeneralizedCylinder, points: &[Vec3], hints: &[f32]) -> Option<(f32, f32)> {
+    let (start, end) = (axis.frame(0.0), axis.frame(1.0));
+    let (mut before, mut after) = (0.0f32, 0.0f32);
+    for (&p, &hint) in points.iter().zip(hints) {
+        let t = axis.closest_t(p, hint);
+        if t <= 1e-4 {
+            before = before.max(-(p - start.position).dot(start.tangent));
+        } else if t >= 1.0 - 1e-4 {
+            after = after.max((p - end.position).dot(end.tangent));
         }
     }
+    let tol = 1e-4 * axis.length();
+    (before > tol || after > tol).then_some((before.max(0.0), after.max(0.0)))
+}
 
-    #[test]
-    fn fits_a_generated_volume_and_reconstructs_its_strands() {
-        use crate::generate::{ClusterStyle, generate_clusters};
-        let style = ClusterStyle {
-            macro_clusters: 3,
-            clusters_per_macro: 2,
-            strands_per_cluster: 60,
-            ..Default::default()
-        };
-        let asset = generate_clusters(&tress_hair::generate::Head::default(), &style)
-            .unwrap()
-            .to_asset()
-            .unwrap();
-        let s = FitSettings {
-            strands_per_cluster: 60,
-            axis_quantile: 1.0,
-            ..Default::default()
-        };
-        let vol = fit_clusters(&asset, &s).unwrap();
-        let stats = vol.stats(&crate::shell::ShellSampling::default());
-        assert_eq!(stats.strands, 360);
-        // The cuts fall in the gaps between bundles: the generator's 6 clusters of 60 come back.
-        assert_eq!(stats.clusters, 6);
-        assert!(vol.clusters().all(|(_, c)| c.strands().len() == 60));
-        // Reconstruction: every resampled point is P(t, v, u) of its local coordinates.
-        let mut worst = 0.0f32;
-        for (g, c) in vol.clusters() {
-            for l in c.strands() {
-                let p = l.points()[8];
-                let q = c.point(g, p.t, p.v, p.u);
-                // The nearest original strand point, for the error.
-                let d = (0..asset.strand_count())
-                    .flat_map(|i| {
-                        asset
-                            .strand(i)
-                            .windows(2)
-                            .map(|w| seg_dist(q, w[0], w[1]))
-                            .collect::<Vec<_>>()
-                    })
-                    .fold(f32::INFINITY, f32::min);
-                worst = worst.max(d);
-            }
-        }
-        assert!(worst < 0.05, "worst reconstruction error {worst}");
-        assert!(
-            fit_clusters(
-                &asset,
-                &FitSettings {
-                    control_points: 2,
-                    ..s
-                }
-            )
-            .is_err()
-        );
+/// The trajectory extended by `before` along its start tangent and `after` along its end
+/// tangent: a spline of `n_control` control points fitted to the extended polyline by chord
+/// length.
+fn extend(
+    axis: &GeneralizedCylinder,
+    before: f32,
+    after: f32,
+    n_control: usize,
+) -> Result<BSpline<Vec3>, SatfError> {
+    let (start, end) = (axis.frame(0.0), axis.frame(1.0));
+    let mut polyline = Vec::with_capacity(EXTENSION_SAMPLES + 2);
+    if before > 0.0 {
+        polyline.push(start.position - before * start.tangent);
     }
+    polyline.extend((0..EXTENSION_SAMPLES).map(|i| {
+        axis.frame(i as f32 / (EXTENSION_SAMPLES - 1) as f32)
+            .position
+    }));
+    if after > 0.0 {
+        polyline.push(end.position + after * end.tangent);
+    }
+    let arc = cumulative_length(&polyline);
+    let total = arc.last().copied().unwrap_or(0.0).max(f32::MIN_POSITIVE);
+    let params: Vec<f32> = arc.iter().map(|s| (s / total).clamp(0.0, 1.0)).collect();
+    BSpline::fit(&params, &polyline, n_control)
+}
 
-    fn seg_dist(p: Vec3, a: Vec3, b: Vec3) -> f32 {
-        let ab = b - a;
-        let f = ((p - a).dot(ab) / ab.length_squared().max(1e-12)).clamp(0.0, 1.0);
-        (a + ab * f).distance(p)
+/// Arc length from the first point to each point of a polyline.
+fn cumulative_length(p: &[Vec3]) -> Vec<f32> {
+    let mut acc = 0.0f32;
+    let mut out = Vec::with_capacity(p.len());
+    out.push(0.0);
+    for w in p.windows(2) {
+        acc += w[0].distance(w[1]);
+        out.push(acc);
     }
+    out
 }

@@ -464,9 +464,21 @@ pub(super) fn detail(d: &FrameDetail) -> String {
             line + &format!(", lod {:.2}", s.lod)
         }
         FrameDetail::Patches(p) => format!("{} triangles, {}", p.triangles, p.scheme.name()),
-        FrameDetail::Satf(s) => format!(
-            "{} clusters, {} layers, {} HSVs",
-            s.clusters, s.layers, s.hsvs
-        ),
+        FrameDetail::Satf(s) => {
+            let mut line = format!(
+                "{} clusters, {} layers, {} HSVs",
+                s.clusters, s.layers, s.hsvs
+            );
+            let skipped = s.skipped_strands;
+            if skipped.total() > 0 {
+                line += &format!(
+                    ", {} strands skipped ({} too short, {} degenerate)",
+                    skipped.total(),
+                    skipped.too_short,
+                    skipped.degenerate
+                );
+            }
+            line
+        }
     }
 }

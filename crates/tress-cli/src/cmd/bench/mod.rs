@@ -12,6 +12,7 @@ mod chart;
 mod measure;
 mod quality;
 mod report;
+mod silhouette;
 mod sweeps;
 
 use std::path::PathBuf;
@@ -55,6 +56,14 @@ pub(crate) struct Args {
     /// Reference samples per pixel of `--quality` (default 64, 16 with --quick).
     #[arg(long)]
     spp: Option<u32>,
+    /// `--quality` only: score only these techniques (repeatable; default all). The strand
+    /// renderer is rendered anyway for the hair mask and the stray-hair silhouette test.
+    #[arg(long = "technique", value_name = "NAME")]
+    techniques: Vec<String>,
+    /// `--quality` only: camera distances as multiples of the scene's (repeatable; default 1,
+    /// 2, 4; 1, 3 with --quick).
+    #[arg(long = "distance", value_name = "FACTOR")]
+    distances: Vec<f32>,
     /// Image width (default 1280, 320 with --quick; --quality: 384, 192 with --quick).
     #[arg(long)]
     width: Option<u32>,
@@ -201,7 +210,11 @@ pub(crate) fn run(args: Args) -> Result<()> {
         scene_name,
     };
     if args.quality {
-        return quality::run(&run, args.quick, args.spp);
+        let select = quality::Select {
+            techniques: &args.techniques,
+            distances: &args.distances,
+        };
+        return quality::run(&run, args.quick, args.spp, &select);
     }
     let info = &run.ctx.adapter_info;
     let targets = OffscreenTargets::new(&run.ctx, size, COLOR_FORMAT)?;

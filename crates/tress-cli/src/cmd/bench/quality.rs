@@ -9,6 +9,12 @@
 //! raymarcher applied, per pixel. It is compared with the traced AO image (same `ao_radius`)
 //! over the hair only: pixels the hair does not cover (the same hair mask for both) are set to 1
 //! in both images, so the head, which has no volume AO on the GPU, does not count.
+//!
+//! **Silhouettes** ([`super::silhouette`]). Each technique's hair silhouette, from frames
+//! without the head, is compared with the reference's (traced without the head at up to 16
+//! spp): `hair_iou` is their intersection over union, `stray_pct` the percent of the
+//! technique's silhouette outside the strand renderer's dilated by 4 pixels (hair drawn where
+//! no strand is).
 
 use std::path::Path;
 
@@ -21,6 +27,7 @@ use tress_trace::{Aov, DisplayImage, Image, TraceSettings, metrics};
 
 use super::measure::{camera_at, coverage_pct, hair_mask, scene_at};
 use super::report::write;
+use super::silhouette::{self, DILATION, Silhouette};
 use super::{Run, open_session};
 use crate::progress;
 
@@ -43,6 +50,15 @@ struct Row {
     /// `color` or `ao`.
     aov: &'static str,
     result: Result<Score, String>,
+    /// The colour rows of the techniques: their silhouette against the reference's.
+    silhouette: Option<Silhouette>,
+}
+
+/// Which part of the report to run: the techniques (empty: all) and camera distances (empty:
+/// the defaults).
+pub(crate) struct Select<'a> {
+    pub(crate) techniques: &'a [String],
+    pub(crate) distances: &'a [f32],
 }
 
 /// A technique's image scored against the reference.
@@ -153,9 +169,25 @@ fn scenes(run: &Run) -> Result<Vec<(String, Scene, bool)>> {
 }
 
 /// Render the report into `run.dir`.
-pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>) -> Result<()> {
+pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>, select: &Select<'_>) -> Result<()> {
     let spp = spp.unwrap_or(if quick { 16 } else { 64 });
-    let distances: &[f32] = if quick { &[1.0, 3.0] } else { &[1.0, 2.0, 4.0] };
+    let distances: &[f32] = match select.distances {
+        [] if quick => &[1.0, 3.0],
+        [] => &[1.0, 2.0, 4.0],
+        d => d,
+    };
+    let techniques: Vec<&'static str> = if select.techniques.is_empty() {
+        TECHNIQUES.to_vec()
+    } else {
+        select
+            .techniques
+            .iter()
+            .map(|t| tress_render::session::technique_name(t))
+            .collect::<Result<_, _>>()?
+    };
+    if let Some(d) = distances.iter().find(|d| !(d.is_finite() && **d > 0.0)) {
+        anyhow::bail!("--distance must be positive, got {d}");
+    }
     let size = if run.size == [1280, 720] || run.size == [320, 180] {
         // The traced reference is the slow part: a smaller default frame.
         if quick { [192, 108] } else { [384, 216] }
@@ -173,6 +205,12 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>) -> Result<()> {
         scene.output.width = size[0];
         scene.output.height = size[1];
         let mut session = open_session(&run.ctx, &scene, *auto_frame, Vec::new())?;
+        let mut headless = open_session(
+            &run.ctx,
+            &silhouette::without_head(&scene),
+            *auto_frame,
+            Vec::new(),
+        )?;
         for &d in distances {
             let tag = format!("{}-d{d}", slug(name));
             let camera = camera_at(&session, size, d);
@@ -188,9 +226,31 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>) -> Result<()> {
             let reference = reference.with_context(|| format!("{name}: the reference"))?;
             save(&reference, &run.dir.join(format!("{tag}-reference.png")))?;
 
+            // The silhouettes: the reference's, and the strand renderer's dilated.
+            let pb = progress::spinner(format!("{name} x{d}: the hair's silhouette"));
+            let outlines = (|| -> Result<_> {
+                let bare = silhouette::without_head(&traced);
+                let traced_outline = tress_trace::render_reference(
+                    &bare,
+                    &TraceSettings {
+                        spp: spp.min(16),
+                        ..settings.clone()
+                    },
+                )?;
+                let reference = silhouette::traced_mask(&traced_outline, bare.background);
+                let strands = outline(run, &mut headless, &targets, &camera, "strands")?;
+                Ok((reference, silhouette::dilate(&strands, size[0], DILATION)))
+            })();
+            pb.finish_and_clear();
+            let outlines = outlines.with_context(|| format!("{name}: the silhouettes"))?;
+
             let mut mask = Vec::new();
             let mut coverage = 0.0;
             for t in TECHNIQUES {
+                let listed = techniques.contains(&t);
+                if !listed && t != "strands" {
+                    continue;
+                }
                 let pb = progress::spinner(format!("{name} x{d}: {t}"));
                 let result = (|| -> Result<_> {
                     session.set_technique(&run.ctx, t)?;
@@ -213,14 +273,20 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>) -> Result<()> {
                     )
                 })();
                 pb.finish_and_clear();
-                rows.push(Row {
-                    scene: name.clone(),
-                    distance: d,
-                    coverage_pct: coverage,
-                    technique: t,
-                    aov: "color",
-                    result: result.map_err(|e| format!("{e:#}")),
-                });
+                if listed {
+                    let outline = outline(run, &mut headless, &targets, &camera, t)
+                        .ok()
+                        .map(|m| silhouette::compare(&m, &outlines.0, &outlines.1));
+                    rows.push(Row {
+                        scene: name.clone(),
+                        distance: d,
+                        coverage_pct: coverage,
+                        technique: t,
+                        aov: "color",
+                        result: result.map_err(|e| format!("{e:#}")),
+                        silhouette: outline,
+                    });
+                }
             }
 
             // The noise floor: the reference traced again with another seed, scored like a
@@ -250,6 +316,7 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>) -> Result<()> {
                 technique: "reference",
                 aov: "color",
                 result: result.map_err(|e| format!("{e:#}")),
+                silhouette: None,
             });
 
             // The volume's AO alone against the traced AO.
@@ -284,11 +351,15 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>) -> Result<()> {
                 technique: "volume",
                 aov: "ao",
                 result: result.map_err(|e| format!("{e:#}")),
+                silhouette: None,
             });
             for r in rows.iter().filter(|r| r.scene == *name && r.distance == d) {
+                let outline = r.silhouette.map_or_else(String::new, |s| {
+                    format!(", hair IoU {:.3}, stray {:.2}%", s.iou, s.outside_pct)
+                });
                 match &r.result {
                     Ok(s) => eprintln!(
-                        "{} x{} {} {}: FLIP {:.4} (hair {:.4}) RMSE {:.4} SSIM {:.3}",
+                        "{} x{} {} {}: FLIP {:.4} (hair {:.4}) RMSE {:.4} SSIM {:.3}{outline}",
                         r.scene,
                         r.distance,
                         r.technique,
@@ -339,6 +410,24 @@ fn frame(
     Ok(tress_render::read_texture(&run.ctx, &targets.color)?)
 }
 
+/// The hair's silhouette in technique `t`'s frame of the head-less `session`: the pixels that
+/// change when the hair is hidden.
+fn outline(
+    run: &Run,
+    session: &mut Session,
+    targets: &OffscreenTargets,
+    camera: &tress_render::Camera,
+    t: &str,
+) -> Result<Vec<bool>> {
+    session.set_technique(&run.ctx, t)?;
+    session.set_hair_visible(true);
+    let with = frame(run, session, targets, camera);
+    session.set_hair_visible(false);
+    let without = frame(run, session, targets, camera);
+    session.set_hair_visible(true);
+    Ok(hair_mask(&with?, &without?))
+}
+
 /// The raymarcher's AO (see the module docs): lights off, AO on over AO off.
 fn volume_ao(
     run: &Run,
@@ -370,13 +459,18 @@ fn volume_ao(
 
 fn csv(rows: &[Row]) -> String {
     let mut out = String::from(
-        "scene,distance,coverage_pct,technique,aov,flip,rmse,ssim,flip_hair,image,heatmap,error\n",
+        "scene,distance,coverage_pct,technique,aov,flip,rmse,ssim,flip_hair,image,heatmap,\
+         hair_iou,stray_pct,error\n",
     );
     for r in rows {
         let scene = r.scene.replace([',', '"', '\n'], "_");
+        let outline = r.silhouette.map_or_else(
+            || ",".to_owned(),
+            |s| format!("{:.4},{:.3}", s.iou, s.outside_pct),
+        );
         match &r.result {
             Ok(s) => out.push_str(&format!(
-                "{scene},{},{:.3},{},{},{:.5},{:.5},{:.4},{:.5},{},{},\n",
+                "{scene},{},{:.3},{},{},{:.5},{:.5},{:.4},{:.5},{},{},{outline},\n",
                 r.distance,
                 r.coverage_pct,
                 r.technique,
@@ -389,7 +483,7 @@ fn csv(rows: &[Row]) -> String {
                 s.heat
             )),
             Err(e) => out.push_str(&format!(
-                "{scene},{},{:.3},{},{},,,,,,,\"{}\"\n",
+                "{scene},{},{:.3},{},{},,,,,,,{outline},\"{}\"\n",
                 r.distance,
                 r.coverage_pct,
                 r.technique,
@@ -410,15 +504,21 @@ fn markdown(rows: &[Row], adapter: &str, size: [u32; 2], spp: u32) -> String {
          the `reference` row is the reference traced again with another seed: its noise, \
          a floor no technique can beat at this sample count; the AO row compares the \
          volume's ambient occlusion alone with the traced AO over the hair (see \
-         `crates/tress-cli/src/cmd/bench/quality.rs`). Distances are multiples of the scene \
-         camera's.\n\n| scene | distance | coverage % | technique | aov | FLIP | FLIP on hair | RMSE | SSIM | image | FLIP map |\n\
-         | --- | ---: | ---: | --- | --- | ---: | ---: | ---: | ---: | --- | --- |\n",
+         `crates/tress-cli/src/cmd/bench/quality.rs`); hair IoU compares the technique's hair \
+         silhouette with the reference's and stray % is the share of it outside the strand \
+         renderer's silhouette dilated by 4 pixels (both without the head). Distances are \
+         multiples of the scene camera's.\n\n| scene | distance | coverage % | technique | aov | FLIP | FLIP on hair | RMSE | SSIM | hair IoU | stray % | image | FLIP map |\n\
+         | --- | ---: | ---: | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- |\n",
         size[0], size[1]
     );
     for r in rows {
+        let outline = r.silhouette.map_or_else(
+            || " | ".to_owned(),
+            |s| format!("{:.3} | {:.2}", s.iou, s.outside_pct),
+        );
         match &r.result {
             Ok(s) => md.push_str(&format!(
-                "| {} | {} | {:.2} | {} | {} | {:.4} | {:.4} | {:.4} | {:.3} | ![]({}) | ![]({}) |\n",
+                "| {} | {} | {:.2} | {} | {} | {:.4} | {:.4} | {:.4} | {:.3} | {outline} | ![]({}) | ![]({}) |\n",
                 r.scene,
                 r.distance,
                 r.coverage_pct,
@@ -432,7 +532,7 @@ fn markdown(rows: &[Row], adapter: &str, size: [u32; 2], spp: u32) -> String {
                 s.heat
             )),
             Err(e) => md.push_str(&format!(
-                "| {} | {} | {:.2} | {} | {} | failed: {e} | | | | | |\n",
+                "| {} | {} | {:.2} | {} | {} | failed: {e} | | | | {outline} | | |\n",
                 r.scene, r.distance, r.coverage_pct, r.technique, r.aov
             )),
         }

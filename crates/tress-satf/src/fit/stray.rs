@@ -1,0 +1,67 @@
+//! How far a fitted cluster's shell strays from its strands, relative to the shell's own size:
+//! the test that splits a group in two (see the parent module's docs, step 7).
+
+use glam::Vec3;
+
+use crate::hierarchy::MacroCluster;
+
+/// A shell point nearer a strand than this many minimum half-axes (by default 1% of the hair's
+/// diagonal, a pixel or two where the hair fills the frame) does not stray, whatever the
+/// cluster's size: splitting further would only multiply clusters (and their layer meshes).
+const NEGLIGIBLE_RADII: f32 = 10.0;
+/// Shell samples along `t` and around `u`.
+const SHELL_T: usize = 16;
+const SHELL_U: usize = 16;
+
+/// The largest ratio, over the points of the shell `v = 1` on a grid of `(t, u)` (16 around
+/// `u`; the root ring `t = 0` and the rings at the middles of 16 intervals of `t`), of the
+/// distance to the nearest of `strands` to the cross-section's larger half-axis there (at least
+/// `floor`): 0 for a shell on its strands, about 1 for a shell a whole radius from every strand
+/// (a rim standing off a curved sheet of hair, a wide tube around a few strands). `None` for a
+/// single strand.
+///
+/// The roots of a group lie on a patch of the scalp, so the root ring measures that patch's
+/// curvature like any other ring. The tip ring `t = 1` does not count: where the strands' tips
+/// are staggered it closes over the one farthest tip while the cross-section there is sized by
+/// the tips near it, however few strands the group holds; splitting cannot shrink that (it is
+/// not a sheet's sagitta), the profile's end limits bound it and the module's tests check it.
+pub(super) fn stray_ratio(m: &MacroCluster, strands: &[&[Vec3]], floor: f32) -> Option<f32> {
+    if strands.len() < 2 {
+        return None;
+    }
+    let (g, c) = (&m.geometry, m.clusters.first()?);
+    let mut worst = 0.0f32;
+    let rings = std::iter::once(0.0).chain((0..SHELL_T).map(|i| (i as f32 + 0.5) / SHELL_T as f32));
+    for t in rings {
+        let (a, b, _) = g.profile(t);
+        let size = a.max(b).max(floor).max(f32::MIN_POSITIVE);
+        for k in 0..SHELL_U {
+            let u = k as f32 / SHELL_U as f32 * std::f32::consts::TAU;
+            let p = c.point(g, t, 1.0, u);
+            let d = strands
+                .iter()
+                .map(|s| polyline_distance(p, s))
+                .fold(f32::INFINITY, f32::min);
+            if d > NEGLIGIBLE_RADII * floor {
+                worst = worst.max(d / size);
+            }
+        }
+    }
+    Some(worst)
+}
+
+/// Distance from `p` to the polyline `s`.
+fn polyline_distance(p: Vec3, s: &[Vec3]) -> f32 {
+    if s.len() == 1 {
+        return p.distance(s[0]);
+    }
+    s.windows(2)
+        .map(|w| {
+            let ab = w[1] - w[0];
+            let f =
+                ((p - w[0]).dot(ab) / ab.length_squared().max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
+            (w[0] + ab * f).distance_squared(p)
+        })
+        .fold(f32::INFINITY, f32::min)
+        .sqrt()
+}
