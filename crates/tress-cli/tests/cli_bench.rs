@@ -114,8 +114,8 @@ fn oit_sweep_compares_ppll_and_shortcut_by_k() {
         series,
         [
             ("ppll", "8"),
-            ("ppll", "16"),
             ("shortcut", "8"),
+            ("ppll", "16"),
             ("shortcut", "16")
         ]
         .map(|(a, b)| (a.to_string(), b.to_string()))
