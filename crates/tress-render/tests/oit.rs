@@ -5,7 +5,9 @@
 
 mod common;
 
-use glam::{Vec3, Vec4};
+use common::layers::{BACKGROUND, LAYERS, assert_close, layers};
+
+use glam::Vec3;
 use tress_render::strands::{NODE_BYTES, NODE_CHUNKS, Oit, OitKind};
 use tress_render::{
     COLOR_FORMAT, FrameInputs, FrameStats, GpuContext, LinearImage, Material, OffscreenTargets,
@@ -14,24 +16,6 @@ use tress_render::{
 use tress_shading::{StrandFragment, resolve_k_buffer, resolve_shortcut};
 
 const SIZE: u32 = 64;
-const BACKGROUND: Vec3 = Vec3::new(0.1, 0.2, 0.3);
-
-/// Layers in drawing order (not depth order): z, color, alpha.
-const LAYERS: [(f32, [f32; 3], f32); 6] = [
-    (0.5, [1.0, 0.0, 0.0], 0.5),
-    (2.0, [0.0, 1.0, 0.0], 0.4),
-    (-1.0, [0.0, 0.0, 1.0], 0.7),
-    (1.0, [1.0, 1.0, 0.0], 0.3),
-    (-2.0, [0.2, 0.9, 0.9], 0.6),
-    (0.0, [0.9, 0.5, 0.1], 0.8),
-];
-
-fn layers() -> Vec<(f32, Vec3, f32)> {
-    LAYERS
-        .iter()
-        .map(|&(z, c, a)| (z, Vec3::from(c), a))
-        .collect()
-}
 
 /// Flat colors (no lights, white ambient), no coverage, full strand alpha, 32 px ribbons across
 /// rows 16..48.
@@ -53,7 +37,7 @@ fn render(
 ) -> (LinearImage, Vec<FrameStats>) {
     let mut renderer = Renderer::new(ctx, TargetFormats::default(), settings).expect("renderer");
     let hair = renderer
-        .upload_hair(ctx, &common::layer_strands(&layers()))
+        .upload_hair(ctx, &common::layer_strands(&layers(LAYERS.len())))
         .expect("upload");
     let targets = OffscreenTargets::new(ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
     let inputs = FrameInputs {
@@ -81,7 +65,7 @@ fn render(
 }
 
 fn fragments() -> Vec<StrandFragment> {
-    layers()
+    layers(LAYERS.len())
         .iter()
         .map(|&(z, color, alpha)| StrandFragment {
             color,
@@ -89,14 +73,6 @@ fn fragments() -> Vec<StrandFragment> {
             depth: common::ortho_depth(z),
         })
         .collect()
-}
-
-fn assert_close(got: [f32; 4], want: Vec3, tol: f32, what: &str) {
-    let got = Vec4::from(got);
-    assert!(
-        (got.truncate() - want).abs().max_element() < tol && (got.w - 1.0).abs() < 1e-3,
-        "{what}: got {got}, want {want}"
-    );
 }
 
 /// Fragments the layers make: 6 layers over 64 x 32 pixels.

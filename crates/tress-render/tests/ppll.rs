@@ -3,7 +3,9 @@
 
 mod common;
 
-use glam::{Vec3, Vec4};
+use common::layers::{BACKGROUND, assert_close, layers};
+
+use glam::Vec3;
 use tress_render::{
     COLOR_FORMAT, FrameInputs, FrameStats, LinearImage, Material, OffscreenTargets, Renderer,
     StrandSettings, TargetFormats, read_texture,
@@ -11,17 +13,6 @@ use tress_render::{
 use tress_shading::{StrandFragment, resolve_k_buffer};
 
 const SIZE: u32 = 64;
-const BACKGROUND: Vec3 = Vec3::new(0.1, 0.2, 0.3);
-
-/// Layers in the order they are drawn (deliberately not depth order).
-const LAYERS: [(f32, [f32; 3], f32); 6] = [
-    (0.5, [1.0, 0.0, 0.0], 0.5),
-    (2.0, [0.0, 1.0, 0.0], 0.4),
-    (-1.0, [0.0, 0.0, 1.0], 0.7),
-    (1.0, [1.0, 1.0, 0.0], 0.3),
-    (-2.0, [0.2, 0.9, 0.9], 0.6),
-    (0.0, [0.9, 0.5, 0.1], 0.8),
-];
 
 /// Render the layers with flat colors (no lights, white ambient: the fragment color is the vertex
 /// color), no coverage, full strand alpha; returns the image and the stats.
@@ -105,13 +96,6 @@ fn flat(width_px: f32, k: u32) -> StrandSettings {
     }
 }
 
-fn layers(n: usize) -> Vec<(f32, Vec3, f32)> {
-    LAYERS[..n]
-        .iter()
-        .map(|&(z, c, a)| (z, Vec3::from(c), a))
-        .collect()
-}
-
 fn expected(layers: &[(f32, Vec3, f32)], k: usize) -> Vec3 {
     let fragments: Vec<StrandFragment> = layers
         .iter()
@@ -122,14 +106,6 @@ fn expected(layers: &[(f32, Vec3, f32)], k: usize) -> Vec3 {
         })
         .collect();
     resolve_k_buffer(&fragments, k, BACKGROUND)
-}
-
-fn assert_close(got: [f32; 4], want: Vec3, tol: f32, what: &str) {
-    let got = Vec4::from(got);
-    assert!(
-        (got.truncate() - want).abs().max_element() < tol && (got.w - 1.0).abs() < 1e-3,
-        "{what}: got {got}, want {want}"
-    );
 }
 
 #[test]

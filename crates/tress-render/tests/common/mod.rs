@@ -4,6 +4,7 @@
 #![allow(dead_code, unreachable_pub)]
 
 pub mod compute;
+pub mod layers;
 
 use std::sync::OnceLock;
 
