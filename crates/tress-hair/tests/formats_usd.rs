@@ -155,6 +155,60 @@ proptest! {
 }
 
 #[test]
+fn a_damaged_child_list_is_an_error_not_an_endless_traversal() {
+    // groom.usdc with one byte changed (byte 88, in its value data: 20 -> 1), found by
+    // damaged_usdc_never_panics: openusd's traversal then went round a cycle of prim paths
+    // forever (10 GB after 30 minutes).
+    let bytes = std::fs::read(data("fuzz/damaged-child-list.usdc")).unwrap();
+    let good = std::fs::read(data("groom.usdc")).unwrap();
+    let changed: Vec<usize> = (0..good.len()).filter(|&i| bytes[i] != good[i]).collect();
+    assert_eq!(
+        changed,
+        [88],
+        "the fixture differs from groom.usdc in one byte"
+    );
+    let e = read_usd_bytes(&bytes, "usdc", &ReadOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("not a prim name"), "{e}");
+}
+
+#[test]
+fn a_compressed_block_larger_than_the_file_is_an_error() {
+    // groom.usdc with byte 324 (in the size of an integer array's compressed block) set to 255,
+    // found by damaged_usdc_never_panics: openusd allocated the stated 1 TB and aborted.
+    let bytes = std::fs::read(data("fuzz/damaged-block-size.usdc")).unwrap();
+    let good = std::fs::read(data("groom.usdc")).unwrap();
+    let changed: Vec<usize> = (0..good.len()).filter(|&i| bytes[i] != good[i]).collect();
+    assert_eq!(
+        changed,
+        [324],
+        "the fixture differs from groom.usdc in one byte"
+    );
+    let e = read_usd_bytes(&bytes, "usdc", &ReadOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("compressed array at byte"), "{e}");
+}
+
+#[test]
+fn one_changed_byte_never_aborts_or_hangs_the_reader() {
+    // groom.usdc with one byte changed, found by damaged_usdc_never_panics at 100,000 cases:
+    // a value representation turned into a token list op with its array bit set (openusd read
+    // it as a list op, the check as an array) and one whose payload moved to 0 (read from the
+    // header): both allocated petabytes and aborted; `xformOp:rotateY` renamed
+    // `xformOp}rotateY`: openusd's property path parsing never returned.
+    let good = std::fs::read(data("groom.usdc")).unwrap();
+    for (file, at, message) in [
+        ("damaged-list-op-kind.usdc", 1559, "list op"),
+        ("damaged-list-op-header.usdc", 1674, "list op"),
+        ("damaged-op-order.usdc", 1220, "not a property name"),
+    ] {
+        let bytes = std::fs::read(data(&format!("fuzz/{file}"))).unwrap();
+        let changed: Vec<usize> = (0..good.len()).filter(|&i| bytes[i] != good[i]).collect();
+        assert_eq!(changed, [at], "{file} differs from groom.usdc in one byte");
+        let e = read_usd_bytes(&bytes, "usdc", &ReadOptions::default()).unwrap_err();
+        assert!(e.to_string().contains(message), "{file}: {e}");
+    }
+}
+
+#[test]
 fn fuzz_findings_are_errors() {
     // read_usd-1: a token vector claiming 2^60 tokens (openusd allocated it unchecked).
     let input = std::fs::read(data("fuzz/read_usd-1")).unwrap();

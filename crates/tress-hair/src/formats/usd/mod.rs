@@ -209,7 +209,74 @@ pub fn read_usd_mesh(path: &Path) -> Result<TriMesh, HairError> {
         .ok_or_else(|| err("the stage has no Mesh prims").in_file(path))
 }
 
+/// Most prims a stage may have (a bound for hostile files; a groom has a handful).
+const MAX_PRIMS: usize = 1 << 20;
+
+/// Walk the prim hierarchy before openusd traverses it, refusing child names that are not prim
+/// names and stages beyond [`MAX_PRIMS`]: openusd appends a child name to its parent's path as
+/// written, so a damaged file whose child list names `.` or `..` sends its traversal round a
+/// cycle forever (one changed byte in a test file took it to 10 GB).
+fn check_hierarchy(stage: &Stage) -> Result<(), HairError> {
+    let mut stack = vec![sdf::Path::abs_root()];
+    let mut prims = 0usize;
+    while let Some(path) = stack.pop() {
+        let names = stage
+            .prim(path.clone())
+            .child_names()
+            .map_err(|e| err(format!("{e:#}")))?;
+        for name in names {
+            let name = name.as_str();
+            if !is_identifier(name) {
+                return Err(err(format!(
+                    "prim {path} has a child named \"{}\", which is not a prim name",
+                    name.escape_debug()
+                )));
+            }
+            prims += 1;
+            if prims > MAX_PRIMS {
+                return Err(err(format!("the stage has more than {MAX_PRIMS} prims")));
+            }
+            let child = path.append_path(name).map_err(|e| err(format!("{e:#}")))?;
+            stack.push(child);
+        }
+    }
+    Ok(())
+}
+
+/// A USD identifier: letters, digits (not first) and `_`, or any non-ASCII character.
+fn is_identifier(name: &str) -> bool {
+    !name.is_empty()
+        && !name.starts_with(|c: char| c.is_ascii_digit())
+        && name
+            .chars()
+            .all(|c| c.is_alphanumeric() || c == '_' || !c.is_ascii())
+}
+
+/// Refuse an `xformOpOrder` entry that is not a property name (`a:b:c`, optionally after
+/// `!invert!`) or `!resetXformStack!`: openusd builds a property path from each entry, and a
+/// damaged name (`xformOp}rotateY`, one changed byte in a test file) sent its path parsing into
+/// an endless loop.
+fn check_op_order(prim: &AnyPrim, path: &sdf::Path) -> Result<(), HairError> {
+    let Some(order) = prim
+        .xform_op_order()
+        .map_err(|e| err(format!("{path}: {e:#}")))?
+    else {
+        return Ok(());
+    };
+    for op in &order {
+        let name = op.strip_prefix("!invert!").unwrap_or(op);
+        if op != "!resetXformStack!" && !name.split(':').all(is_identifier) {
+            return Err(err(format!(
+                "{path}: xformOpOrder names \"{}\", which is not a property name",
+                op.escape_debug()
+            )));
+        }
+    }
+    Ok(())
+}
+
 fn contents(stage: &Stage, options: &ReadOptions) -> Result<UsdContents, HairError> {
+    check_hierarchy(stage)?;
     let mut paths = Vec::new();
     stage
         .traverse(PrimPredicate::DEFAULT, |p| paths.push(p.clone()))
@@ -267,6 +334,7 @@ fn world_transform(
         return Ok(*m);
     }
     let prim = AnyPrim(stage.prim(path.clone()));
+    check_op_order(&prim, path)?;
     let local = prim
         .local_to_parent_transform(TimeCode::EARLIEST)
         .map_err(|e| err(format!("{}: {e:#}", path.as_str())))?;

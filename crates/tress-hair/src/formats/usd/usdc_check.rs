@@ -207,16 +207,25 @@ fn check_arrays(
             (rep >> 63 & 1 == 1, rep >> 62 & 1 == 1, rep >> 61 & 1 == 1);
         let payload = rep & ((1 << 48) - 1);
         let kind = (rep >> 48) & 0xff;
-        if inlined || payload == 0 {
+        // Dictionaries, list ops, vectors and variant selections are read as such whether
+        // or not their array bit is set.
+        let counted = matches!(kind, 31..=41 | 45 | 48..=50 | 54 | 55);
+        // An array at 0 is empty; any other value at 0 would be read from the header.
+        if inlined || (array && !counted && payload == 0) {
             continue;
         }
-        if !array {
+        if counted || !array {
             // Non-array values that start with an element count: dictionaries (31), path,
             // token, double, layer-offset and string vectors (40, 41, 48, 49, 50), variant
             // selections (45); list ops (32–39, 54, 55) start with a header byte.
+            if let Some(element) = list_op_element(kind) {
+                check_list_op(bytes, payload, element)
+                    .map_err(|e| format!("the list op at byte {payload}: {e}"))?;
+                continue;
+            }
             let at = match kind {
                 31 | 40 | 41 | 45 | 48..=50 => payload,
-                32..=39 | 54 | 55 => payload + 1,
+                35 | 54 | 55 => payload + 1,
                 _ => continue,
             };
             let n = u64_at(bytes, at)?;
@@ -248,6 +257,88 @@ fn check_arrays(
                 "an array at byte {payload} claims {n} elements but the file has {after} bytes after it"
             ));
         }
+        // openusd reads an array as compressed only from 4 elements on, integer arrays from
+        // crate 0.5.0 and floating point arrays from 0.6.0.
+        let since = if kind <= 6 { (0, 5, 0) } else { (0, 6, 0) };
+        if compressed && n >= 4 && version >= since {
+            let width = if version < (0, 7, 0) { 4 } else { 8 };
+            check_compressed_array(bytes, kind, at + width)
+                .map_err(|e| format!("the compressed array at byte {payload}: {e}"))?;
+        }
     }
     Ok(())
+}
+
+/// The bytes of one item of a list op of value type `kind` whose items have a fixed size: token,
+/// string and path list ops hold `u32` indices, the integer ones their integers.
+fn list_op_element(kind: u64) -> Option<u64> {
+    match kind {
+        32..=34 | 36 | 38 => Some(4),
+        37 | 39 => Some(8),
+        _ => None,
+    }
+}
+
+/// Walk a list op of fixed-size items at `at`: a header byte whose bits 1–6 say which item
+/// lists follow, each an element count and its items; every count must fit the file (openusd
+/// allocates it before reading).
+fn check_list_op(bytes: &[u8], at: u64, element: u64) -> Result<(), String> {
+    let len = bytes.len() as u64;
+    let header = *bytes
+        .get(at as usize)
+        .ok_or("truncated before its header")?;
+    let lists = (header >> 1 & 0x3f).count_ones();
+    let mut at = at + 1;
+    for _ in 0..lists {
+        let n = u64_at(bytes, at)?;
+        let after = len.saturating_sub(at + 8);
+        if n > after / element {
+            return Err(format!(
+                "a list of {n} items, but the file has {after} bytes after it"
+            ));
+        }
+        at += 8 + n * element;
+    }
+    Ok(())
+}
+
+/// Check the compressed payload of an array value after its element count at `at`: openusd
+/// allocates a compressed block's stated size before reading it, so every size must fit the
+/// file. Integer arrays (value types 3–6) are one block; half, float and double arrays (7–9)
+/// start with a code: `i` (one block of integers) or `t` (a lookup table, then one block of
+/// indices).
+fn check_compressed_array(bytes: &[u8], kind: u64, at: u64) -> Result<(), String> {
+    let len = bytes.len() as u64;
+    let block = |at: u64| -> Result<(), String> {
+        let size = u64_at(bytes, at)?;
+        let after = len.saturating_sub(at + 8);
+        if size > after {
+            return Err(format!(
+                "a block of {size} bytes, but the file has {after} bytes after it"
+            ));
+        }
+        Ok(())
+    };
+    match kind {
+        3..=6 => block(at),
+        7..=9 => {
+            let code = *bytes.get(at as usize).ok_or("truncated before its code")?;
+            match code {
+                b'i' => block(at + 1),
+                b't' => {
+                    let table = u64::from(u32_at(bytes, at + 1)?);
+                    let element = [2, 4, 8][(kind - 7) as usize];
+                    let end = at + 5 + table.saturating_mul(element);
+                    if end > len {
+                        return Err(format!(
+                            "a lookup table of {table} values past the file's end"
+                        ));
+                    }
+                    block(end)
+                }
+                other => Err(format!("an unknown compression code {other}")),
+            }
+        }
+        _ => Ok(()),
+    }
 }
