@@ -142,9 +142,19 @@ fn oit_sweep_compares_ppll_and_shortcut_by_k() {
         );
     }
     let flip = |i: usize| col(&rows[i], 1).parse::<f64>().unwrap();
-    assert!(flip(2) < 1e-6, "the reference against itself: {}", flip(2));
-    assert!(flip(3) < 0.03, "ShortCut k=16 vs PPLL k=16: {}", flip(3));
-    assert!(flip(1) < 0.03, "ShortCut k=8 vs PPLL k=16: {}", flip(1));
+    // Every frame against exact sorting (the PPLL k = 16 frame's lists sorted on the CPU): the
+    // k-buffer nears it as k grows, and the reference is not the PPLL's own frame.
+    let flips: Vec<f64> = (0..4).map(flip).collect();
+    eprintln!("FLIP vs exact: {flips:?}");
+    assert!(flips.iter().all(|f| *f < 0.03), "{flips:?}");
+    assert!(
+        flips[2] <= flips[0] + 1e-4,
+        "PPLL k=16 nearer exact than k=8: {flips:?}"
+    );
+    assert!(
+        flips[2] > 0.0,
+        "the reference is the sorted composite, not the PPLL frame"
+    );
 }
 
 #[test]

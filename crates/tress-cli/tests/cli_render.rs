@@ -86,3 +86,80 @@ fn render_rejects_bad_settings_with_one_line() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("x.jpg"));
 }
+
+#[test]
+fn exact_oit_renders_what_sorting_every_fragment_draws() {
+    if skip_gpu() {
+        return;
+    }
+    let hair = tmp("exact.hair");
+    let gen_out = tress(&[
+        "generate",
+        "straight",
+        "-o",
+        hair.to_str().unwrap(),
+        "--strands",
+        "300",
+        "--vertices",
+        "8",
+    ]);
+    assert!(gen_out.status.success());
+    let render = |name: &str, extra: &[&str]| {
+        let png = tmp(name);
+        let mut args = vec![
+            "render",
+            hair.to_str().unwrap(),
+            "-o",
+            png.to_str().unwrap(),
+            "--width",
+            "96",
+            "--height",
+            "64",
+        ];
+        args.extend_from_slice(extra);
+        let out = tress(&args);
+        assert_gpu_success(&out);
+        image::open(&png).unwrap().to_rgb8()
+    };
+    // The exact reference of a k = 1 frame is the frame of a k-buffer that holds every
+    // fragment (this asset has far fewer than 32 a pixel), and not the k = 1 frame.
+    let exact = render("exact.png", &["--exact-oit", "--set", "strands.k=1"]);
+    let all_sorted = render(
+        "k32.png",
+        &["--set", "strands.oit=\"ppll\"", "--set", "strands.k=32"],
+    );
+    let k1 = render(
+        "k1.png",
+        &["--set", "strands.oit=\"ppll\"", "--set", "strands.k=1"],
+    );
+    let max_diff = |a: &image::RgbImage, b: &image::RgbImage| {
+        a.as_raw()
+            .iter()
+            .zip(b.as_raw())
+            .map(|(x, y)| x.abs_diff(*y))
+            .max()
+            .unwrap()
+    };
+    assert!(
+        max_diff(&exact, &all_sorted) <= 1,
+        "{}",
+        max_diff(&exact, &all_sorted)
+    );
+    assert!(max_diff(&exact, &k1) > 8, "{}", max_diff(&exact, &k1));
+
+    let out = tress(&[
+        "render",
+        hair.to_str().unwrap(),
+        "-o",
+        tmp("exact-volume.png").to_str().unwrap(),
+        "--technique",
+        "volume",
+        "--exact-oit",
+    ]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.trim().lines().count() == 1 && err.contains("--exact-oit"),
+        "{err}"
+    );
+}

@@ -111,6 +111,17 @@ pub struct Renderer {
 }
 
 impl Renderer {
+    /// Every fragment the PPLL stored in the last frame it drew, per pixel (None before the
+    /// first PPLL frame). Read after [`Renderer::render`] of a frame drawn with the PPLL and
+    /// nothing lost (`FrameStats`' `oit`), this is the whole frame's hair, for CPU composites
+    /// such as the exact sorted reference of `tress render --exact-oit`.
+    pub fn ppll_fragments(
+        &self,
+        ctx: &GpuContext,
+    ) -> Result<Option<crate::strands::PpllFragments>, RenderError> {
+        self.oit.ppll_fragments(ctx)
+    }
+
     /// Render one frame into `targets` and submit it on `ctx.queue`.
     ///
     /// With [`StatsReadback::Wait`] and a clearing frame (`inputs.clear` set), a frame that

@@ -35,6 +35,16 @@ fn render(
     settings: StrandSettings,
     frames: usize,
 ) -> (LinearImage, Vec<FrameStats>) {
+    let (img, stats, _) = render_keep(ctx, settings, frames);
+    (img, stats)
+}
+
+/// [`render`], keeping the renderer (and its PPLL lists).
+fn render_keep(
+    ctx: &GpuContext,
+    settings: StrandSettings,
+    frames: usize,
+) -> (LinearImage, Vec<FrameStats>, Renderer) {
     let mut renderer = Renderer::new(ctx, TargetFormats::default(), settings).expect("renderer");
     let hair = renderer
         .upload_hair(ctx, &common::layer_strands(&layers(LAYERS.len())))
@@ -61,7 +71,8 @@ fn render(
                 .expect("frame")
         })
         .collect();
-    (read_texture(ctx, &targets.color).expect("readback"), stats)
+    let img = read_texture(ctx, &targets.color).expect("readback");
+    (img, stats, renderer)
 }
 
 fn fragments() -> Vec<StrandFragment> {
@@ -159,6 +170,44 @@ fn a_pool_over_several_bindings_composites_like_one() {
 }
 
 #[test]
+fn the_lists_read_back_over_several_bindings_are_the_layers_drawn() {
+    let Some(ctx) = common::gpu() else { return };
+    let ctx = small_bindings(&ctx, 4096);
+    let (img, _, renderer) = render_keep(&ctx, flat(Oit::Ppll), 1);
+    let lists = renderer
+        .ppll_fragments(&ctx)
+        .expect("readback")
+        .expect("a PPLL frame");
+    assert_eq!(lists.fragments.len(), LAYER_FRAGMENTS as usize);
+    let mut want = fragments();
+    want.sort_by(|a, b| a.depth.total_cmp(&b.depth));
+    for (x, y) in [(0, 16), (32, 32), (63, 47)] {
+        let mut got = lists.pixel(x, y).to_vec();
+        got.sort_by(|a, b| a.depth.total_cmp(&b.depth));
+        assert_eq!(got.len(), want.len(), "{x},{y}");
+        for (g, w) in got.iter().zip(&want) {
+            // Colors through RGB9E5 (9 bits relative to the largest channel).
+            assert!(
+                (g.color - w.color).abs().max_element() < 4e-3,
+                "{g:?} vs {w:?}"
+            );
+            assert!((g.alpha - w.alpha).abs() < 1e-6 && (g.depth - w.depth).abs() < 1e-5);
+        }
+    }
+    assert!(lists.pixel(32, 4).is_empty(), "no hair above the layers");
+    // All six layers fit the k = 16 resolve: sorting exactly changes nothing.
+    let mut sorted = img.clone();
+    lists.sort_exactly(&mut sorted, 16);
+    let diff = sorted
+        .pixels
+        .iter()
+        .zip(&img.pixels)
+        .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
+        .fold(0f32, f32::max);
+    assert!(diff < 1e-6, "{diff}");
+}
+
+#[test]
 fn the_pool_never_exceeds_its_bindings_and_counts_what_it_loses() {
     let Some(ctx) = common::gpu() else { return };
     // Four bindings of 1,024 nodes hold 4,096 of the 12,288 fragments (the 16 KiB head buffer
@@ -230,7 +279,10 @@ fn a_frame_beyond_a_16_mib_pool_comes_out_complete_with_shortcut() {
     // what a 16 MiB pool (1M nodes) holds.
     let hair_asset = common::sphere_hair(1.0, 24_000, 12);
     let lights = [tress_render::DirectionalLight::default()];
-    let frame = |settings: StrandSettings| {
+    // The frame, its OIT statistics and (with `exact`) the frame as exact sorted compositing
+    // draws it: the PPLL's lists read back and sorted on the CPU.
+    let frame = |settings: StrandSettings, exact: bool| {
+        let k = settings.k as usize;
         let mut r = Renderer::new(&ctx, TargetFormats::default(), settings).expect("renderer");
         let hair = r.upload_hair(&ctx, &hair_asset).expect("hair");
         let head = common::sphere_head(&ctx);
@@ -255,48 +307,68 @@ fn a_frame_beyond_a_16_mib_pool_comes_out_complete_with_shortcut() {
         };
         let stats = r.render(&ctx, &t.targets(), &inputs).expect("frame");
         let oit = stats.gpu.as_ref().and_then(|g| g.oit).expect("oit");
-        (common::srgb_image(&ctx, &t.color), oit)
+        let mut img = read_texture(&ctx, &t.color).expect("readback");
+        if exact {
+            let f = r.ppll_fragments(&ctx).expect("readback").expect("lists");
+            assert_eq!(
+                f.fragments.len(),
+                oit.fragments as usize,
+                "every fragment read back"
+            );
+            f.sort_exactly(&mut img, k);
+        }
+        let rgb = image::DynamicImage::ImageRgba8(img.to_srgb8()).to_rgb8();
+        (rgb, oit)
     };
     let base = StrandSettings {
         width_px: 4.0,
         ..common::sphere_strand_settings()
     };
     let mib16 = 16u64 << 20;
-    let (complete, exact) = frame(StrandSettings {
+    let ppll = StrandSettings {
         oit: Oit::Ppll,
         ..base.clone()
-    });
+    };
+    let (exact_img, exact) = frame(ppll.clone(), true);
     assert_eq!((exact.kind, exact.lost), (OitKind::Ppll, 0));
     assert!(
         exact.fragments as u64 * NODE_BYTES > 2 * mib16,
         "the frame must overflow a 16 MiB pool: {} fragments",
         exact.fragments
     );
-    let (auto, a) = frame(StrandSettings {
-        ppll_max_bytes: mib16,
-        ..base.clone()
-    });
+    let (paper, _) = frame(ppll.clone(), false);
+    let (auto, a) = frame(
+        StrandSettings {
+            ppll_max_bytes: mib16,
+            ..base.clone()
+        },
+        false,
+    );
     assert_eq!(
         (a.kind, a.lost, a.fragments),
         (OitKind::Shortcut, 0, exact.fragments)
     );
-    let (lossy, l) = frame(StrandSettings {
-        oit: Oit::Ppll,
-        ppll_max_bytes: mib16,
-        ..base
-    });
-    assert!(l.lost > 0 && l.lost == l.fragments - (mib16 / NODE_BYTES) as u32);
-    let shortcut_error = mean_flip(&auto, &complete);
-    let lossy_error = mean_flip(&lossy, &complete);
-    eprintln!(
-        "mean FLIP vs the complete PPLL: shortcut {shortcut_error:.4}, 16 MiB PPLL {lossy_error:.4}"
+    let (lossy, l) = frame(
+        StrandSettings {
+            ppll_max_bytes: mib16,
+            ..ppll
+        },
+        false,
     );
-    // This frame is denser than the paper's scenes (about 75 fragments a covered pixel; the
-    // ponytail at 1280x720 has 19 a pixel): measured 0.0129 here, against 0.0505 for the paper's
-    // PPLL at the same k = 8 (its weighted-average tail darkens what sorting would not).
-    assert!(shortcut_error < 0.015, "{shortcut_error}");
+    assert!(l.lost > 0 && l.lost == l.fragments - (mib16 / NODE_BYTES) as u32);
+    let shortcut_error = mean_flip(&auto, &exact_img);
+    let paper_error = mean_flip(&paper, &exact_img);
+    let lossy_error = mean_flip(&lossy, &exact_img);
+    eprintln!(
+        "mean FLIP vs exact sorting: shortcut k = 8 {shortcut_error:.4}, complete PPLL k = 16 \
+         {paper_error:.4}, 16 MiB PPLL {lossy_error:.4}"
+    );
+    // A frame denser than the paper's scenes (about 75 fragments a covered pixel; the ponytail
+    // at 1280x720 has 19 a pixel). Measured here: ShortCut 0.0100, the complete PPLL at k = 16
+    // 0.0070, the lossy PPLL 0.26.
+    assert!(shortcut_error < 0.012, "{shortcut_error}");
     assert!(
-        lossy_error > 3.0 * shortcut_error,
+        lossy_error > 10.0 * shortcut_error,
         "the test tells a lossy frame apart"
     );
 }

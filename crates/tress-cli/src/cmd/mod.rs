@@ -7,6 +7,7 @@ pub(crate) mod cards;
 pub(crate) mod compare;
 pub(crate) mod compare_images;
 pub(crate) mod convert;
+pub(crate) mod exact_oit;
 pub(crate) mod generate;
 pub(crate) mod info;
 pub(crate) mod reference;

@@ -53,6 +53,11 @@ pub(crate) struct Args {
     /// voxelized again every frame).
     #[arg(long, value_name = "MOTION")]
     animate: Option<String>,
+    /// Write the exact sorted composite of the strands instead of the OIT's (a reference for
+    /// `tress compare-images`): drawn with the PPLL holding every fragment, its lists read back
+    /// and every pixel's fragments blended in depth order on the CPU. Technique `strands`.
+    #[arg(long)]
+    exact_oit: bool,
 }
 
 /// The JSON report of a frame: the keys every technique reports, then the technique's own part.
@@ -271,12 +276,21 @@ pub(crate) fn apply_options(
 pub(crate) fn run(args: Args) -> Result<()> {
     check_output(&args.output)?;
     let (mut scene, auto_frame) = base_scene(&args.inputs)?;
+    let sets: Vec<String> = if args.exact_oit {
+        super::exact_oit::SETS
+            .iter()
+            .map(|s| s.to_string())
+            .chain(args.sets.iter().cloned())
+            .collect()
+    } else {
+        args.sets.clone()
+    };
     apply_options(
         &mut scene,
         args.technique.as_deref(),
         args.width,
         args.height,
-        &args.sets,
+        &sets,
     )?;
     if !IMPLEMENTED.contains(&scene.technique.as_str()) {
         bail!(
@@ -293,7 +307,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
         let b = h.bounds();
         frame_bounds(&mut scene, b.min, b.max);
         // The command line's --set still wins over the automatic framing.
-        scene.apply_overrides(&args.sets)?;
+        scene.apply_overrides(&sets)?;
     }
     let patches = if scene.technique == "patches" {
         let pb = progress::spinner("building patches");
@@ -326,7 +340,11 @@ pub(crate) fn run(args: Args) -> Result<()> {
         return super::animate::run(&ctx, seq, &args.output, &scene, &prepared, size);
     }
     let pb = rendering_spinner(&ctx, size);
-    let result = render_frame(&ctx, &scene, &prepared, size);
+    let result = if args.exact_oit {
+        super::exact_oit::render(&ctx, &scene, &prepared, size)
+    } else {
+        render_frame(&ctx, &scene, &prepared, size)
+    };
     pb.finish_and_clear();
     let (image, stats) = result?;
     save(&image, &args.output)?;

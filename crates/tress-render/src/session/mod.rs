@@ -38,10 +38,10 @@ use crate::patches::scene::{PatchScene, load_patches, patch_settings};
 use crate::satf::scene::{SatfScene, load_clusters, satf_settings};
 use crate::scene_setup::{PreparedScene, frame_bounds};
 use crate::{
-    Camera, DirectionalLight, FrameInputs, FrameStats, GpuContext, HeadGeometry, PatchFrameInputs,
-    PatchFrameStats, PatchGeometry, PatchRenderer, RenderError, Renderer, SatfDatabase,
-    SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, StatsReadback, StrandGeometry,
-    TargetFormats, Targets, Technique, Timings,
+    Camera, DirectionalLight, FrameInputs, FrameStats, GpuContext, HeadGeometry, LinearImage,
+    PatchFrameInputs, PatchFrameStats, PatchGeometry, PatchRenderer, RenderError, Renderer,
+    SatfDatabase, SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, StatsReadback,
+    StrandGeometry, TargetFormats, Targets, Technique, Timings,
 };
 
 /// The techniques a session draws, in the order the viewer cycles them.
@@ -428,6 +428,25 @@ impl Session {
     /// The SATF settings in use, once the `satf` technique has been prepared.
     pub fn satf_settings(&self) -> Option<&SatfScene> {
         self.satf.as_ref().map(|s| &s.settings)
+    }
+
+    /// Turn `image`, the last strand frame read back, into that frame as exact sorted
+    /// compositing draws it ([`crate::strands::PpllFragments::sort_exactly`] with the PPLL's
+    /// lists). False (and `image` unchanged) when no strand frame was drawn with the PPLL; the
+    /// caller checks that the frame lost nothing.
+    pub fn sort_exactly(
+        &self,
+        ctx: &GpuContext,
+        image: &mut LinearImage,
+    ) -> Result<bool, RenderError> {
+        let Some(path) = &self.strands else {
+            return Ok(false);
+        };
+        let Some(lists) = path.renderer.ppll_fragments(ctx)? else {
+            return Ok(false);
+        };
+        lists.sort_exactly(image, self.prepared.strands.k as usize);
+        Ok(true)
     }
 
     /// Draw the hair (default) or only the head and background: the bare frame against which

@@ -66,6 +66,7 @@ mod geometry;
 pub mod oit;
 pub(crate) mod ppll;
 pub(crate) mod ppll_build;
+pub(crate) mod ppll_readback;
 mod ppll_resolve;
 mod shadow;
 mod shortcut;
@@ -82,6 +83,7 @@ pub use oit::{Oit, OitKind, OitStats};
 pub(crate) use ppll::PpllPool;
 pub use ppll::{NODE_BYTES, NODE_CHUNKS, PpllStats};
 pub use ppll_build::PpllBuild;
+pub use ppll_readback::{PpllFragments, unpack_rgb9e5};
 pub use ppll_resolve::{MAX_K, PpllResolve};
 pub(crate) use shadow::ShadowCasters;
 pub use shadow::ShadowMap;
@@ -90,6 +92,8 @@ pub use shortcut_depth::ShortcutDepth;
 pub use shortcut_resolve::ShortcutResolve;
 pub use shortcut_shade::ShortcutShade;
 pub use shortcut_threshold::ShortcutThreshold;
+/// The CPU twins a [`PpllFragments`] readback is composited with.
+pub use tress_shading::{StrandFragment, resolve_k_buffer};
 
 use crate::RenderError;
 use crate::gpu::types::StrandParams;

@@ -250,6 +250,17 @@ impl StrandOit {
         self.pool.as_ref().map_or(0, |p| p.capacity)
     }
 
+    /// The PPLL pool's lists as the last frame drawn with it left them (None without a pool).
+    pub(crate) fn ppll_fragments(
+        &self,
+        ctx: &GpuContext,
+    ) -> Result<Option<crate::strands::PpllFragments>, RenderError> {
+        self.pool
+            .as_ref()
+            .map(|p| crate::strands::ppll_readback::read_fragments(ctx, p))
+            .transpose()
+    }
+
     /// Bytes of the PPLL pool (0 without one).
     pub(crate) fn ppll_bytes(&self) -> u64 {
         self.pool.as_ref().map_or(0, PpllPool::bytes)

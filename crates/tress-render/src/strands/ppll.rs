@@ -128,6 +128,8 @@ impl PpllPool {
         }
         ctx.scoped("allocating the PPLL", || {
             let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+            // COPY_SRC: `Renderer::ppll_fragments` reads the lists back.
+            let storage = storage | wgpu::BufferUsages::COPY_SRC;
             let buffer = |label: &str, size: u64, usage| {
                 ctx.device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(label),

@@ -109,7 +109,9 @@ pub(crate) fn camera_at(session: &Session, size: [u32; 2], factor: f32) -> Camer
 }
 
 /// Render `warmup` frames, then time `frames` frames, then measure the coverage on one frame
-/// with and one without the hair. Returns the measurement and the last frame with hair.
+/// with and one without the hair. Returns the measurement, the last frame with hair and, with
+/// `exact`, that frame as exact sorted compositing draws it (`Session::sort_exactly`: a strand
+/// frame drawn with the PPLL that lost nothing, else an error).
 pub(crate) fn measure(
     ctx: &GpuContext,
     session: &mut Session,
@@ -117,7 +119,8 @@ pub(crate) fn measure(
     camera: &Camera,
     warmup: u32,
     frames: u32,
-) -> Result<(Measurement, LinearImage)> {
+    exact: bool,
+) -> Result<(Measurement, LinearImage, Option<LinearImage>)> {
     session.set_hair_visible(true);
     for _ in 0..warmup {
         session.render(ctx, &targets.targets(), camera, None)?;
@@ -139,6 +142,19 @@ pub(crate) fn measure(
     let n = frames.max(1);
     let wall_ms = wall / f64::from(n);
     let image = read_texture(ctx, &targets.color).context("reading the frame back")?;
+    let exact = if exact {
+        match oit {
+            Some(o) if o.kind == tress_render::strands::OitKind::Ppll && o.lost == 0 => {}
+            _ => anyhow::bail!("the exact reference needs a PPLL frame that lost nothing"),
+        }
+        let mut sorted = image.clone();
+        if !session.sort_exactly(ctx, &mut sorted)? {
+            anyhow::bail!("the exact reference needs a strand frame drawn with the PPLL");
+        }
+        Some(sorted)
+    } else {
+        None
+    };
     session.set_hair_visible(false);
     let bare = session
         .render(ctx, &targets.targets(), camera, None)
@@ -162,6 +178,7 @@ pub(crate) fn measure(
             flip: None,
         },
         image,
+        exact,
     ))
 }
 

@@ -81,19 +81,17 @@ pub(crate) struct Args {
     sets: Vec<String>,
 }
 
-/// Set each row's mean FLIP against the reference row's frame (`sweeps::OIT_REFERENCE`).
-fn score_against_reference(rows: &mut [Row], images: &[Option<tress_render::LinearImage>]) {
+/// Set each row's mean FLIP against the exact sorted composite of the reference row's frame
+/// (`sweeps::OIT_REFERENCE`).
+fn score_against_reference(
+    rows: &mut [Row],
+    images: &[Option<tress_render::LinearImage>],
+    exact: Option<&tress_render::LinearImage>,
+) {
     use tress_trace::{DisplayImage, metrics};
     let display =
         |i: &tress_render::LinearImage| DisplayImage::from_linear(&quality::linear_to_trace(i));
-    let (name, x) = sweeps::OIT_REFERENCE;
-    let Some(reference) = rows
-        .iter()
-        .zip(images)
-        .find(|(r, _)| r.technique == name && r.x == x)
-        .and_then(|(_, i)| i.as_ref())
-        .map(display)
-    else {
+    let Some(reference) = exact.map(display) else {
         return;
     };
     for (r, image) in rows.iter_mut().zip(images) {
@@ -222,6 +220,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
     for sw in plan {
         let mut rows = Vec::new();
         let mut images = Vec::new();
+        let mut exact = None;
         // A fresh session per sweep: the sweep's overrides never leak into the next one.
         let mut session = run.session()?;
         for (i, p) in sw.points.iter().enumerate() {
@@ -235,17 +234,31 @@ pub(crate) fn run(args: Args) -> Result<()> {
                     tick(p.x),
                     info.name
                 ));
+                let is_reference = sw.name == "oit" && (series.name, p.x) == sweeps::OIT_REFERENCE;
                 let result = (|| -> Result<_> {
                     for s in p.sets.iter().chain(&series.sets) {
                         session.set(&run.ctx, s)?;
                     }
                     session.set_technique(&run.ctx, series.technique)?;
                     let camera = camera_at(&session, size, p.distance);
-                    measure(&run.ctx, &mut session, &targets, &camera, warmup, frames)
+                    measure(
+                        &run.ctx,
+                        &mut session,
+                        &targets,
+                        &camera,
+                        warmup,
+                        frames,
+                        is_reference,
+                    )
                 })();
                 pb.finish_and_clear();
                 let (result, image) = match result {
-                    Ok((m, image)) => (Ok(m), Some(image)),
+                    Ok((m, image, e)) => {
+                        if e.is_some() {
+                            exact = e;
+                        }
+                        (Ok(m), Some(image))
+                    }
                     Err(e) => (Err(format!("{e:#}")), None),
                 };
                 match &result {
@@ -270,7 +283,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
             }
         }
         if sw.name == "oit" {
-            score_against_reference(&mut rows, &images);
+            score_against_reference(&mut rows, &images, exact.as_ref());
         }
         report::write(
             &run.dir,
@@ -297,7 +310,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
             for r in rows.iter().filter(|r| r.result.is_ok()) {
                 if let Ok(m) = &r.result {
                     eprintln!(
-                        "oit {} k={}: {:.2} ms, {:.1} MiB, {}, mean FLIP vs {} k={} {}",
+                        "oit {} k={}: {:.2} ms, {:.1} MiB, {}, mean FLIP vs exact sorting ({} k={}'s fragments) {}",
                         r.technique,
                         tick(r.x),
                         m.frame_ms,

@@ -12,7 +12,8 @@
 //!
 //! The `oit` sweep draws the strands with the paper's PPLL (its pool allowed to hold the whole
 //! frame, so it loses nothing where the device allows) and with ShortCut at each k, and scores
-//! every frame by mean FLIP against the PPLL at k = 16 (the paper's k-buffer).
+//! every frame by mean FLIP against exact sorted compositing: the PPLL's k = 16 frame with its
+//! lists read back and every pixel's fragments sorted on the CPU (`Session::sort_exactly`).
 
 use anyhow::{Result, bail};
 use tress_scene::Scene;
@@ -79,7 +80,8 @@ pub(crate) const SWEEPS: [&str; 7] = [
     "oit",
 ];
 
-/// The `oit` sweep's reference: the PPLL at the paper's k.
+/// The `oit` sweep's reference: the PPLL frame (at the paper's k) whose lists are sorted
+/// exactly.
 pub(crate) const OIT_REFERENCE: (&str, f64) = ("ppll", 16.0);
 
 fn point(x: f64, sets: Vec<String>) -> Point {
