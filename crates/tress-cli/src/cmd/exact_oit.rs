@@ -7,13 +7,8 @@
 use anyhow::{Context, Result, bail};
 use tress_render::scene_setup::PreparedScene;
 use tress_render::strands::OitKind;
-use tress_render::{
-    COLOR_FORMAT, FrameStats, GpuContext, LinearImage, OffscreenTargets, read_texture,
-};
+use tress_render::{FrameStats, GpuContext, LinearImage, read_texture};
 use tress_scene::Scene;
-
-use super::render::{frame_inputs, upload_head};
-
 /// Settings `--exact-oit` puts before the command line's `--set`s: the PPLL, with a pool cap as
 /// large as the device's bindings allow.
 pub(crate) const SETS: [&str; 2] = ["strands.oit=\"ppll\"", "strands.ppll_max_mib=4096"];
@@ -31,17 +26,7 @@ pub(crate) fn render(
             scene.technique
         );
     }
-    let mut renderer = super::animate::renderer(ctx, scene, prepared)?;
-    let targets = OffscreenTargets::new(ctx, size, COLOR_FORMAT)?;
-    let hair = prepared
-        .hair
-        .as_ref()
-        .map(|h| renderer.upload_hair(ctx, h))
-        .transpose()?;
-    let head = upload_head(ctx, prepared)?;
-    let camera = PreparedScene::camera(scene, size);
-    let inputs = frame_inputs(camera, prepared, hair.as_ref(), head.as_ref());
-    let stats = renderer.render(ctx, &targets.targets(), &inputs)?;
+    let (renderer, targets, stats) = super::render::draw_frame(ctx, scene, prepared, size)?;
     match stats.gpu.as_ref().and_then(|g| g.oit) {
         Some(o) if o.kind == OitKind::Ppll && o.lost == 0 => {}
         Some(o) if o.kind == OitKind::Ppll => bail!(

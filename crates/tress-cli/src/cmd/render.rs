@@ -10,7 +10,8 @@ use tress_render::patches::scene::PatchScene;
 use tress_render::scene_setup::{PreparedScene, frame_bounds, load_patches};
 use tress_render::{
     COLOR_FORMAT, FrameInputs, FrameStats, GpuContext, HeadGeometry, OffscreenTargets,
-    PatchFrameInputs, PatchFrameStats, PatchRenderer, TargetFormats, Timings, read_texture, wgpu,
+    PatchFrameInputs, PatchFrameStats, PatchRenderer, Renderer, TargetFormats, Timings,
+    read_texture, wgpu,
 };
 use tress_scene::Scene;
 
@@ -396,6 +397,19 @@ pub(crate) fn render_frame(
     prepared: &PreparedScene,
     size: [u32; 2],
 ) -> Result<(tress_render::LinearImage, FrameStats)> {
+    let (_, targets, stats) = draw_frame(ctx, scene, prepared, size)?;
+    let image = read_texture(ctx, &targets.color).context("reading the frame back")?;
+    Ok((image, stats))
+}
+
+/// Draw one frame of a prepared scene offscreen; the renderer (with its PPLL lists) and the
+/// targets are returned for reading back.
+pub(crate) fn draw_frame(
+    ctx: &GpuContext,
+    scene: &Scene,
+    prepared: &PreparedScene,
+    size: [u32; 2],
+) -> Result<(Renderer, OffscreenTargets, FrameStats)> {
     let mut renderer = super::animate::renderer(ctx, scene, prepared)?;
     let targets = OffscreenTargets::new(ctx, size, COLOR_FORMAT)?;
     let hair = prepared
@@ -413,8 +427,7 @@ pub(crate) fn render_frame(
     // In the default `Wait` mode the renderer itself repeats a frame that dropped fragments with
     // a grown PPLL pool (up to its cap), so one call gives the best frame the budget allows.
     let stats = renderer.render(ctx, &targets.targets(), &inputs)?;
-    let image = read_texture(ctx, &targets.color).context("reading the frame back")?;
-    Ok((image, stats))
+    Ok((renderer, targets, stats))
 }
 
 /// Constant ambient light added to every technique's shading (linear RGB per channel).

@@ -14,7 +14,8 @@ pub use context::{
     MIN_STORAGE_BUFFERS_PER_STAGE, check_capabilities,
 };
 pub use readback::{
-    LinearImage, f16_to_f32, linear_to_srgb, read_buffer, read_texture, srgb_to_linear,
+    LinearImage, f16_to_f32, linear_to_srgb, read_buffer, read_texture, read_whole_buffer,
+    srgb_to_linear,
 };
 pub(crate) use target::clear_loads;
 pub use target::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTargets, TargetFormats, Targets};

@@ -125,6 +125,30 @@ pub fn read_buffer(
     Ok(bytes)
 }
 
+/// Copy all of `buffer` (`COPY_SRC` usage) into a mappable buffer and read it back.
+pub fn read_whole_buffer(
+    ctx: &GpuContext,
+    buffer: &wgpu::Buffer,
+    label: &str,
+) -> Result<Vec<u8>, RenderError> {
+    let size = buffer.size();
+    let staging = ctx.scoped(label, || {
+        let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
+        enc.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
+        ctx.queue.submit([enc.finish()]);
+        staging
+    })?;
+    read_buffer(ctx, &staging, 0..size)
+}
+
 /// Bytes per texel of the color formats readback understands.
 fn texel_bytes(format: wgpu::TextureFormat) -> Option<u32> {
     use wgpu::TextureFormat as F;

@@ -6,7 +6,7 @@ use glam::Vec3;
 use tress_shading::{StrandFragment, resolve_k_buffer};
 
 use crate::gpu::types::PpllNode;
-use crate::gpu::{LinearImage, read_buffer};
+use crate::gpu::{LinearImage, read_whole_buffer};
 use crate::strands::ppll::PpllPool;
 use crate::{GpuContext, RenderError};
 
@@ -63,38 +63,20 @@ pub fn unpack_rgb9e5(v: u32) -> glam::Vec3 {
     ) * scale
 }
 
-/// Copy `buffer` (`COPY_SRC`) into a mappable one and read it.
-fn read_whole(ctx: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u8>, RenderError> {
-    let size = buffer.size();
-    let staging = ctx.scoped("PPLL readback", || {
-        let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("strands/ppll/readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("strands/ppll/readback"),
-            });
-        enc.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
-        ctx.queue.submit([enc.finish()]);
-        staging
-    })?;
-    read_buffer(ctx, &staging, 0..size)
-}
-
 /// Every stored fragment of `pool`'s last frame. A list that points outside the nodes or runs
 /// longer than the pool (a damaged pool) is an error, never a hang.
 pub(crate) fn read_fragments(
     ctx: &GpuContext,
     pool: &PpllPool,
 ) -> Result<PpllFragments, RenderError> {
-    let heads: Vec<u32> = bytemuck::pod_collect_to_vec(&read_whole(ctx, &pool.heads)?);
+    let heads: Vec<u32> = bytemuck::pod_collect_to_vec(&read_whole_buffer(
+        ctx,
+        &pool.heads,
+        "strands/ppll/readback",
+    )?);
     let mut nodes: Vec<PpllNode> = Vec::new();
     for chunk in &pool.nodes {
-        let bytes = read_whole(ctx, chunk)?;
+        let bytes = read_whole_buffer(ctx, chunk, "strands/ppll/readback")?;
         nodes.extend(bytemuck::pod_collect_to_vec::<u8, PpllNode>(&bytes));
     }
     // Chunk c holds nodes c * nodes_per_chunk.. and every chunk but the last in use is full, so
