@@ -6,6 +6,20 @@ use glam::{Vec2, Vec3};
 
 use crate::HairError;
 
+/// The index of the first value `ok` refuses. Blocks of values are checked without an early exit
+/// per value, which the compiler vectorizes (the common case: every value passes); only a block
+/// holding a refused value is searched value by value.
+pub(crate) fn first_failing<T: Copy>(values: &[T], ok: impl Fn(T) -> bool) -> Option<usize> {
+    const BLOCK: usize = 1024;
+    values.chunks(BLOCK).enumerate().find_map(|(b, block)| {
+        if block.iter().fold(true, |all, &v| all & ok(v)) {
+            None
+        } else {
+            block.iter().position(|&v| !ok(v)).map(|i| b * BLOCK + i)
+        }
+    })
+}
+
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
@@ -110,7 +124,7 @@ impl HairAsset {
                 positions.len()
             )));
         }
-        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+        if let Some(i) = first_failing(&positions, Vec3::is_finite) {
             return Err(HairError::Invalid(format!(
                 "vertex {i} has a non-finite position"
             )));
@@ -128,7 +142,7 @@ impl HairAsset {
     /// Attach per-vertex thickness (strand diameter in world units, finite and non-negative).
     pub fn with_thickness(mut self, thickness: Vec<f32>) -> Result<Self, HairError> {
         check_per_vertex("thickness", thickness.len(), self.vertex_count())?;
-        if let Some(i) = thickness.iter().position(|t| !t.is_finite() || *t < 0.0) {
+        if let Some(i) = first_failing(&thickness, |t| t.is_finite() && t >= 0.0) {
             return Err(HairError::Invalid(format!(
                 "thickness of vertex {i} is negative or not finite"
             )));
@@ -140,7 +154,7 @@ impl HairAsset {
     /// Attach per-vertex transparency (0 = opaque, 1 = invisible).
     pub fn with_transparency(mut self, transparency: Vec<f32>) -> Result<Self, HairError> {
         check_per_vertex("transparency", transparency.len(), self.vertex_count())?;
-        if let Some(i) = transparency.iter().position(|t| !t.is_finite()) {
+        if let Some(i) = first_failing(&transparency, f32::is_finite) {
             return Err(HairError::Invalid(format!(
                 "transparency of vertex {i} is not finite"
             )));
@@ -152,7 +166,7 @@ impl HairAsset {
     /// Attach per-vertex linear RGB color.
     pub fn with_color(mut self, color: Vec<Vec3>) -> Result<Self, HairError> {
         check_per_vertex("color", color.len(), self.vertex_count())?;
-        if let Some(i) = color.iter().position(|c| !c.is_finite()) {
+        if let Some(i) = first_failing(&color, Vec3::is_finite) {
             return Err(HairError::Invalid(format!(
                 "color of vertex {i} is not finite"
             )));
@@ -170,7 +184,7 @@ impl HairAsset {
                 self.strand_count()
             )));
         }
-        if let Some(i) = uv.iter().position(|c| !c.is_finite()) {
+        if let Some(i) = first_failing(&uv, Vec2::is_finite) {
             return Err(HairError::Invalid(format!(
                 "UV of strand {i} is not finite"
             )));
@@ -340,6 +354,22 @@ fn check_per_vertex(name: &str, len: usize, vertices: usize) -> Result<(), HairE
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn first_failing_finds_the_first_refused_value_in_any_block() {
+        let ok = |v: f32| v.is_finite();
+        assert_eq!(first_failing(&[] as &[f32], ok), None);
+        for n in [1, 1023, 1024, 1025, 5000] {
+            let mut v = vec![1.0f32; n];
+            assert_eq!(first_failing(&v, ok), None);
+            for bad in [0, n / 2, n - 1] {
+                v[bad] = f32::NAN;
+                v[n - 1] = f32::INFINITY;
+                assert_eq!(first_failing(&v, ok), Some(bad), "n {n}, bad {bad}");
+                v.fill(1.0);
+            }
+        }
+    }
 
     fn two_strands() -> HairAsset {
         let p = vec![

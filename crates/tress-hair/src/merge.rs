@@ -54,6 +54,17 @@ impl HairAsset {
         }
         Ok(out)
     }
+
+    /// [`merge`](Self::merge) taking the assets: a single asset comes back as it is, not copied
+    /// (a reader that found one curves prim or object need not duplicate its arrays).
+    pub fn merge_owned(mut assets: Vec<HairAsset>) -> Result<HairAsset, HairError> {
+        if assets.len() == 1
+            && let Some(only) = assets.pop()
+        {
+            return Ok(only);
+        }
+        Self::merge(&assets)
+    }
 }
 
 fn gather<T: Copy>(
@@ -99,5 +110,12 @@ mod tests {
         assert_eq!(m.thickness().unwrap(), &[2.0, 4.0, 3.0, 3.0, 3.0]);
         assert!(m.color().is_none());
         assert!(HairAsset::merge(&[]).is_err());
+        assert!(HairAsset::merge_owned(Vec::new()).is_err());
+        let only = m.clone();
+        assert_eq!(HairAsset::merge_owned(vec![only]).unwrap(), m);
+        assert_eq!(
+            HairAsset::merge_owned(vec![m.clone(), m.clone()]).unwrap(),
+            HairAsset::merge(&[m.clone(), m]).unwrap()
+        );
     }
 }

@@ -84,6 +84,27 @@ fn our_writer_round_trips_with_transforms_and_guides() {
     assert_eq!(asset.color().unwrap()[5], Vec3::new(1.0, 0.5, 0.25));
 }
 
+#[test]
+fn whole_linear_curves_expand_primvars_and_refuse_non_finite_points() {
+    // Every curve is kept, so the arrays move into the asset; uniform and constant values are
+    // still expanded per vertex, and widths scaled by the transform.
+    let mut c = linear("c", &[2, 3], 0.0);
+    c.widths = Some((Scope::Uniform, vec![0.5, 0.25]));
+    c.colors = Some((Scope::Constant, vec![[0.1, 0.2, 0.3]]));
+    c.xform = Some([
+        2.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+    ]);
+    let (asset, _) = read_abc(&write(std::slice::from_ref(&c)), &ReadOptions::default()).unwrap();
+    assert_eq!(asset.thickness().unwrap(), [1.0, 1.0, 0.5, 0.5, 0.5]);
+    assert_eq!(asset.color().unwrap(), [Vec3::new(0.1, 0.2, 0.3); 5]);
+    assert_eq!(asset.strand(1)[0], Vec3::new(1.0, -4.0, 0.0));
+    c.positions[3][1] = f32::NAN;
+    let e = read_abc(&write(&[c]), &ReadOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert_eq!(e, ".abc: /c_xform/c: vertex 3 has a non-finite position");
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 

@@ -175,7 +175,7 @@ pub fn read_abc(bytes: &[u8], options: &ReadOptions) -> Result<(HairAsset, AbcIn
             },
         ));
     }
-    Ok((HairAsset::merge(&assets).map_err(in_format)?, info))
+    Ok((HairAsset::merge_owned(assets).map_err(in_format)?, info))
 }
 
 fn in_format(e: HairError) -> HairError {

@@ -324,12 +324,6 @@ pub fn load_paths(
         assets.push(l.asset);
         found.push((l.format, l.details));
     }
-    let asset = if assets.len() == 1 {
-        assets
-            .pop()
-            .ok_or_else(|| HairError::Parameter("no hair files given".into()))?
-    } else {
-        HairAsset::merge(&assets)?
-    };
+    let asset = HairAsset::merge_owned(assets)?;
     Ok((asset, found))
 }

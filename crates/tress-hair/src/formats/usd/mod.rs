@@ -311,7 +311,7 @@ fn contents(stage: &Stage, options: &ReadOptions) -> Result<UsdContents, HairErr
     let hair = if assets.is_empty() {
         None
     } else {
-        Some(HairAsset::merge(&assets).map_err(in_format)?)
+        Some(HairAsset::merge_owned(assets).map_err(in_format)?)
     };
     let mesh = merge_meshes(meshes);
     Ok(UsdContents { hair, mesh, info })

@@ -32,9 +32,12 @@
 //! does is used; when none does, the file is refused. Widths are scaled by the world transform's
 //! scale (the cube root of its 3×3 determinant).
 
+mod stencils;
+
 use glam::{DMat4, Vec2, Vec3};
 
 use crate::{HairAsset, HairError};
+use stencils::Stencils;
 
 /// Settings of the readers of curve formats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -131,233 +134,8 @@ pub(crate) struct CurveSet {
     pub(crate) world: DMat4,
 }
 
-const BEZIER: [[f32; 4]; 4] = [
-    [-1.0, 3.0, -3.0, 1.0],
-    [3.0, -6.0, 3.0, 0.0],
-    [-3.0, 3.0, 0.0, 0.0],
-    [1.0, 0.0, 0.0, 0.0],
-];
-const S6: f32 = 1.0 / 6.0;
-const BSPLINE: [[f32; 4]; 4] = [
-    [-S6, 3.0 * S6, -3.0 * S6, S6],
-    [3.0 * S6, -6.0 * S6, 3.0 * S6, 0.0],
-    [-3.0 * S6, 0.0, 3.0 * S6, 0.0],
-    [S6, 4.0 * S6, S6, 0.0],
-];
-const CATMULL_ROM: [[f32; 4]; 4] = [
-    [-0.5, 1.5, -1.5, 0.5],
-    [1.0, -2.5, 2.0, -0.5],
-    [-0.5, 0.0, 0.5, 0.0],
-    [0.0, 1.0, 0.0, 0.0],
-];
-
-fn basis_weights(m: &[[f32; 4]; 4], t: f32) -> [f32; 4] {
-    let p = [t * t * t, t * t, t, 1.0];
-    std::array::from_fn(|c| (0..4).map(|r| p[r] * m[r][c]).sum())
-}
-
-/// One output vertex: weights on control vertices (a stencil) and where it lies on the spans.
-#[derive(Clone, Copy, Debug, Default)]
-struct Sample {
-    span: u32,
-    t: f32,
-    start: u32,
-    len: u32,
-}
-
-/// The samples of one curve, their stencils in `taps`.
-#[derive(Default)]
-struct Stencils {
-    samples: Vec<Sample>,
-    taps: Vec<(u32, f32)>,
-    spans: u32,
-}
-
 fn invalid(name: &str, curve: usize, reason: impl std::fmt::Display) -> HairError {
     HairError::Invalid(format!("{name}: curve {curve}: {reason}"))
-}
-
-impl Stencils {
-    fn clear(&mut self) {
-        self.samples.clear();
-        self.taps.clear();
-        self.spans = 0;
-    }
-
-    fn push(&mut self, span: u32, t: f32, taps: impl IntoIterator<Item = (u32, f32)>) {
-        let start = self.taps.len() as u32;
-        self.taps.extend(taps);
-        let len = self.taps.len() as u32 - start;
-        self.samples.push(Sample {
-            span,
-            t,
-            start,
-            len,
-        });
-    }
-
-    /// A cubic curve of `n` control vertices.
-    fn cubic(
-        &mut self,
-        basis: CubicBasis,
-        wrap: Wrap,
-        n: usize,
-        segments: u32,
-    ) -> Result<(), String> {
-        let (matrix, bezier) = match basis {
-            CubicBasis::Bezier => (&BEZIER, true),
-            CubicBasis::Bspline => (&BSPLINE, false),
-            CubicBasis::CatmullRom => (&CATMULL_ROM, false),
-        };
-        let wrap = if bezier && wrap == Wrap::Pinned {
-            Wrap::NonPeriodic
-        } else {
-            wrap
-        };
-        let spans = match (bezier, wrap) {
-            (true, Wrap::Periodic) if n >= 3 && n.is_multiple_of(3) => n / 3,
-            (true, Wrap::Periodic) => {
-                return Err(format!(
-                    "a periodic Bezier curve needs 3k vertices, not {n}"
-                ));
-            }
-            (true, _) if n >= 4 && (n - 4).is_multiple_of(3) => (n - 1) / 3,
-            (true, _) => {
-                return Err(format!(
-                    "a Bezier curve needs 3k + 1 vertices (at least 4), not {n}"
-                ));
-            }
-            (false, Wrap::NonPeriodic) if n >= 4 => n - 3,
-            (false, Wrap::NonPeriodic) => {
-                return Err(format!("needs at least 4 vertices, not {n}"));
-            }
-            (false, Wrap::Pinned) if n >= 2 => n - 1,
-            (false, Wrap::Pinned) => {
-                return Err(format!("a pinned curve needs at least 2 vertices, not {n}"));
-            }
-            (false, Wrap::Periodic) if n >= 3 => n,
-            (false, Wrap::Periodic) => {
-                return Err(format!(
-                    "a periodic curve needs at least 3 vertices, not {n}"
-                ));
-            }
-        };
-        self.spans = spans as u32;
-        let last = n as i64 - 1;
-        for s in 0..spans {
-            let first = if s == 0 { 0 } else { 1 };
-            for k in first..=segments {
-                let t = k as f32 / segments as f32;
-                let w = basis_weights(matrix, t);
-                let mut taps = [(0u32, 0.0f32); 8];
-                let mut m = 0;
-                for (j, &wj) in w.iter().enumerate() {
-                    let raw = if bezier {
-                        3 * s as i64 + j as i64
-                    } else {
-                        s as i64 + j as i64
-                    };
-                    match wrap {
-                        Wrap::Periodic => {
-                            taps[m] = ((raw.rem_euclid(n as i64)) as u32, wj);
-                            m += 1;
-                        }
-                        Wrap::NonPeriodic => {
-                            taps[m] = (raw as u32, wj);
-                            m += 1;
-                        }
-                        Wrap::Pinned => {
-                            // indices into [2P0 - P1, P0 .. Pn-1, 2Pn-1 - Pn-2]
-                            let i = raw - 1;
-                            if i < 0 {
-                                taps[m] = (0, 2.0 * wj);
-                                taps[m + 1] = (1, -wj);
-                                m += 2;
-                            } else if i > last {
-                                taps[m] = (last as u32, 2.0 * wj);
-                                taps[m + 1] = ((last - 1) as u32, -wj);
-                                m += 2;
-                            } else {
-                                taps[m] = (i as u32, wj);
-                                m += 1;
-                            }
-                        }
-                    }
-                }
-                self.push(s as u32, t, taps[..m].iter().copied());
-            }
-        }
-        Ok(())
-    }
-
-    /// A NURBS curve: `n` control vertices, `order`, its `n + order` knots.
-    fn nurbs(
-        &mut self,
-        n: usize,
-        order: usize,
-        knots: &[f64],
-        segments: u32,
-    ) -> Result<(), String> {
-        if !(2..=MAX_ORDER).contains(&order) {
-            return Err(format!("order {order} is outside 2..={MAX_ORDER}"));
-        }
-        if n < order {
-            return Err(format!("{n} vertices are fewer than the order {order}"));
-        }
-        if knots.iter().any(|k| !k.is_finite()) || knots.windows(2).any(|w| w[1] < w[0]) {
-            return Err("the knots are not finite and non-decreasing".into());
-        }
-        let p = order - 1;
-        let mut span_index = 0u32;
-        for i in p..n {
-            let (a, b) = (knots[i], knots[i + 1]);
-            if b <= a {
-                continue;
-            }
-            let first = if self.samples.is_empty() { 0 } else { 1 };
-            for k in first..=segments {
-                let t = k as f32 / segments as f32;
-                let u = a + (b - a) * f64::from(t);
-                let basis = cox_de_boor(knots, i, p, u);
-                self.push(
-                    span_index,
-                    t,
-                    (0..order).map(|j| ((i - p + j) as u32, basis[j] as f32)),
-                );
-            }
-            span_index += 1;
-        }
-        if span_index == 0 {
-            return Err("the knots leave no span of positive length".into());
-        }
-        self.spans = span_index;
-        Ok(())
-    }
-}
-
-/// Highest NURBS order read.
-const MAX_ORDER: usize = 16;
-
-/// The `p + 1` non-zero B-spline basis functions of degree `p` at `u` in knot span `i`
-/// (The NURBS Book, algorithm A2.2).
-fn cox_de_boor(knots: &[f64], i: usize, p: usize, u: f64) -> [f64; MAX_ORDER] {
-    let mut n = [0.0; MAX_ORDER];
-    let mut left = [0.0; MAX_ORDER];
-    let mut right = [0.0; MAX_ORDER];
-    n[0] = 1.0;
-    for j in 1..=p {
-        left[j] = u - knots[i + 1 - j];
-        right[j] = knots[i + j] - u;
-        let mut saved = 0.0;
-        for r in 0..j {
-            let denom = right[r + 1] + left[j - r];
-            let temp = if denom == 0.0 { 0.0 } else { n[r] / denom };
-            n[r] = saved + right[r + 1] * temp;
-            saved = left[j - r] * temp;
-        }
-        n[j] = saved;
-    }
-    n
 }
 
 /// Values that can be blended with weights.
@@ -438,11 +216,6 @@ impl CurveSet {
                 self.positions.len()
             )));
         }
-        if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
-            return Err(HairError::Invalid(format!(
-                "{name}: point {i} is not finite"
-            )));
-        }
         let curves = self.counts.len();
         let segments = options.cubic_segments;
         if let Some(s) = &self.skip
@@ -459,6 +232,15 @@ impl CurveSet {
             return Err(HairError::Invalid(format!(
                 "{name}: {} root UVs for {curves} curves",
                 uv.len()
+            )));
+        }
+        if matches!(self.shape, Shape::Linear) && self.keeps_every_curve() {
+            // The asset checks the points, in the same order.
+            return self.into_whole_linear();
+        }
+        if let Some(i) = crate::asset::first_failing(&self.positions, Vec3::is_finite) {
+            return Err(HairError::Invalid(format!(
+                "{name}: point {i} is not finite"
             )));
         }
         // Stencils per curve, and the number of span ends (the varying count).
@@ -534,10 +316,6 @@ impl CurveSet {
         };
         let skip = |i: usize| self.skip.as_ref().is_some_and(|s| s[i]);
 
-        let world = self.world.as_mat4();
-        let identity = self.world == DMat4::IDENTITY;
-        let det = self.world.determinant().abs().cbrt() as f32;
-        let width_scale = if det.is_finite() { det } else { 1.0 };
         let mut positions = Vec::with_capacity(if linear { self.positions.len() } else { 0 });
         let mut counts = Vec::with_capacity(curves);
         let mut thickness = widths
@@ -607,37 +385,112 @@ impl CurveSet {
         if counts.is_empty() {
             return Ok(None);
         }
-        if !identity {
+        let strands = Strands {
+            positions,
+            counts,
+            thickness,
+            color,
+            opacity: alpha,
+            strand_uv: uvs,
+        };
+        strands.into_asset(name, self.world).map(Some)
+    }
+
+    /// Whether every curve becomes a strand: none is skipped and none is empty.
+    fn keeps_every_curve(&self) -> bool {
+        self.counts.iter().all(|&c| c > 0) && self.skip.as_ref().is_none_or(|s| !s.contains(&true))
+    }
+
+    /// Linear curves that all become strands: the arrays move into the asset as they are instead
+    /// of being copied curve by curve (the counts, points and widths were checked by the caller).
+    fn into_whole_linear(self) -> Result<Option<HairAsset>, HairError> {
+        if self.counts.is_empty() {
+            return Ok(None);
+        }
+        let name = self.name.as_str();
+        let counts = &self.counts;
+        let strands = Strands {
+            thickness: per_vertex(name, "widths", self.widths, counts, self.positions.len())?,
+            color: per_vertex(name, "colors", self.colors, counts, self.positions.len())?,
+            opacity: per_vertex(name, "opacity", self.opacity, counts, self.positions.len())?,
+            strand_uv: self.strand_uv,
+            positions: self.positions,
+            counts: self.counts,
+        };
+        strands.into_asset(&self.name, self.world).map(Some)
+    }
+}
+
+/// A primvar of linear curves as one value per vertex; values that are already per vertex
+/// (vertex or varying) move.
+fn per_vertex<T: Copy>(
+    name: &str,
+    what: &str,
+    p: Option<Primvar<T>>,
+    counts: &[u32],
+    vertices: usize,
+) -> Result<Option<Vec<T>>, HairError> {
+    let Some(p) = p else {
+        return Ok(None);
+    };
+    let interp = resolve(name, what, &p, counts.len(), vertices, vertices)?.interp;
+    Ok(Some(match interp {
+        Interp::Vertex | Interp::Varying => p.values,
+        Interp::Constant => vec![p.values[0]; vertices],
+        Interp::Uniform => counts
+            .iter()
+            .zip(&p.values)
+            .flat_map(|(&c, &v)| std::iter::repeat_n(v, c as usize))
+            .collect(),
+    }))
+}
+
+/// The output strands of a curve set in object space, each array per vertex (UVs per strand).
+struct Strands {
+    positions: Vec<Vec3>,
+    counts: Vec<u32>,
+    thickness: Option<Vec<f32>>,
+    color: Option<Vec<Vec3>>,
+    /// Opacity (1 − transparency).
+    opacity: Option<Vec<f32>>,
+    strand_uv: Option<Vec<Vec2>>,
+}
+
+impl Strands {
+    /// The asset in world space: points transformed, widths scaled by the transform's scale
+    /// (and clamped at 0), opacity turned into transparency.
+    fn into_asset(self, name: &str, world: DMat4) -> Result<HairAsset, HairError> {
+        let mut positions = self.positions;
+        if world != DMat4::IDENTITY {
+            let m = world.as_mat4();
             for p in &mut positions {
-                *p = world.transform_point3(*p);
+                *p = m.transform_point3(*p);
             }
         }
-        let mut asset = HairAsset::from_counts(positions, &counts)?;
-        if let Some(mut t) = thickness {
+        let named = |e: HairError| match e {
+            HairError::Invalid(reason) => HairError::Invalid(format!("{name}: {reason}")),
+            other => other,
+        };
+        let mut asset = HairAsset::from_counts(positions, &self.counts).map_err(named)?;
+        if let Some(mut t) = self.thickness {
+            let det = world.determinant().abs().cbrt() as f32;
+            let width_scale = if det.is_finite() { det } else { 1.0 };
             for w in &mut t {
                 *w = (*w * width_scale).max(0.0);
             }
-            asset = asset
-                .with_thickness(t)
-                .map_err(|e| HairError::Invalid(format!("{name}: {e}")))?;
+            asset = asset.with_thickness(t).map_err(named)?;
         }
-        if let Some(c) = color {
-            asset = asset
-                .with_color(c)
-                .map_err(|e| HairError::Invalid(format!("{name}: {e}")))?;
+        if let Some(c) = self.color {
+            asset = asset.with_color(c).map_err(named)?;
         }
-        if let Some(a) = alpha {
+        if let Some(a) = self.opacity {
             let t = a.into_iter().map(|o| 1.0 - o).collect();
-            asset = asset
-                .with_transparency(t)
-                .map_err(|e| HairError::Invalid(format!("{name}: {e}")))?;
+            asset = asset.with_transparency(t).map_err(named)?;
         }
-        if let Some(u) = uvs {
-            asset = asset
-                .with_strand_uv(u)
-                .map_err(|e| HairError::Invalid(format!("{name}: {e}")))?;
+        if let Some(u) = self.strand_uv {
+            asset = asset.with_strand_uv(u).map_err(named)?;
         }
-        Ok(Some(asset))
+        Ok(asset)
     }
 }
 
