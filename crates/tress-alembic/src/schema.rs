@@ -25,6 +25,8 @@
 //! indexed, a compound of `.vals` and `.indices`; its `geoScope` metadata (`con`, `uni`, `var`,
 //! `vtx`, `fvr`) says what its values are attached to.
 
+use std::borrow::Cow;
+
 use crate::archive::{Compound, Kind, Pod, Reader, meta_value};
 use crate::ogawa::Group;
 use crate::{AlembicError, Basis, CurveType, Curves, Param, Scope, Wrap};
@@ -186,6 +188,17 @@ fn f32s(bytes: &[u8]) -> Vec<f32> {
         .collect()
 }
 
+/// Little-endian `[f32; N]`s in one pass (a trailing partial element is ignored).
+fn f32_arrays<const N: usize>(bytes: &[u8]) -> Vec<[f32; N]> {
+    let words = bytes.as_chunks::<4>().0;
+    words
+        .as_chunks::<N>()
+        .0
+        .iter()
+        .map(|e| e.map(f32::from_le_bytes))
+        .collect()
+}
+
 fn f64s(bytes: &[u8]) -> Vec<f64> {
     bytes
         .as_chunks::<8>()
@@ -245,15 +258,19 @@ fn scope_of(metadata: &str) -> Scope {
     }
 }
 
+/// A geometry parameter's scope and the bytes of its values.
+type RawParam<'a> = (Scope, Cow<'a, [u8]>);
+
 /// The raw values of a geometry parameter (`extent` numbers per element, as bytes of `pod`),
-/// expanded through its indices when it is indexed, with its scope.
+/// expanded through its indices when it is indexed (otherwise borrowed from the file), with its
+/// scope.
 fn geom_param<'a>(
     reader: &mut Reader<'a>,
     parent: &Compound<'a>,
     name: &str,
     pod: Pod,
     extent: usize,
-) -> Result<Option<(Scope, Vec<u8>)>, AlembicError> {
+) -> Result<Option<RawParam<'a>>, AlembicError> {
     let Some((index, header)) = Reader::find(parent, name) else {
         return Ok(None);
     };
@@ -273,7 +290,7 @@ fn geom_param<'a>(
         Kind::Array | Kind::Scalar => {
             check(&header)?;
             let bytes = reader.first_sample(parent, index)?;
-            Ok(Some((scope_of(&header.metadata), bytes.to_vec())))
+            Ok(Some((scope_of(&header.metadata), Cow::Borrowed(bytes))))
         }
         Kind::Compound => {
             let c = reader
@@ -300,9 +317,9 @@ fn geom_param<'a>(
                             )?;
                             out.extend_from_slice(&vals[i * element..(i + 1) * element]);
                         }
-                        out
+                        Cow::Owned(out)
                     }
-                    None => vals.to_vec(),
+                    None => Cow::Borrowed(vals),
                 };
             Ok(Some((scope_of(&header.metadata), out)))
         }
@@ -328,12 +345,9 @@ fn param_f32n<'a, const N: usize>(
     name: &str,
 ) -> Result<Option<Param<[f32; N]>>, AlembicError> {
     Ok(
-        geom_param(reader, parent, name, Pod::F32, N)?.map(|(scope, b)| {
-            let flat = f32s(&b);
-            Param {
-                scope,
-                values: flat.as_chunks::<N>().0.to_vec(),
-            }
+        geom_param(reader, parent, name, Pod::F32, N)?.map(|(scope, b)| Param {
+            scope,
+            values: f32_arrays::<N>(&b),
         }),
     )
 }
@@ -357,10 +371,7 @@ fn curves<'a>(
     if ph.pod != Pod::F32 || ph.extent != 3 || ph.kind != Kind::Array {
         return Err(malformed(format!("{path}/P is not an array of float32[3]")));
     }
-    let positions: Vec<[f32; 3]> = f32s(reader.first_sample(&geom, pi)?)
-        .as_chunks::<3>()
-        .0
-        .to_vec();
+    let positions = f32_arrays::<3>(reader.first_sample(&geom, pi)?);
     let (ni, nh) = required("nVertices")?;
     let counts = ints(nh.pod, reader.first_sample(&geom, ni)?, "nVertices")?;
     let mut total: u64 = 0;

@@ -43,7 +43,7 @@ fn interp(scope: Scope) -> Option<Interp> {
     }
 }
 
-fn curve_set(c: Curves, guides: &mut usize) -> Result<CurveSet, HairError> {
+fn curve_set(mut c: Curves, guides: &mut usize) -> Result<CurveSet, HairError> {
     let name = c.path.clone();
     let shape = match (c.kind, c.basis) {
         (CurveType::Linear, _) => Shape::Linear,
@@ -66,7 +66,7 @@ fn curve_set(c: Curves, guides: &mut usize) -> Result<CurveSet, HairError> {
             Shape::Cubic(basis, wrap)
         }
         (CurveType::VariableOrder, _) => {
-            let orders = c.orders.clone().unwrap_or_default();
+            let orders = c.orders.take().unwrap_or_default();
             if orders.len() != c.vertex_counts.len() {
                 return Err(HairError::format(
                     FORMAT,
@@ -81,14 +81,14 @@ fn curve_set(c: Curves, guides: &mut usize) -> Result<CurveSet, HairError> {
                 orders: orders.into_iter().map(u32::from).collect(),
                 knots: c
                     .knots
-                    .clone()
+                    .take()
                     .unwrap_or_default()
                     .into_iter()
                     .map(f64::from)
                     .collect(),
                 weights: c
                     .weights
-                    .clone()
+                    .take()
                     .map(|w| w.into_iter().map(f64::from).collect()),
             }
         }
@@ -129,7 +129,9 @@ fn curve_set(c: Curves, guides: &mut usize) -> Result<CurveSet, HairError> {
     };
     Ok(CurveSet {
         name,
-        positions: c.positions.iter().map(|&p| Vec3::from_array(p)).collect(),
+        // `[f32; 3]` and `Vec3` have one layout: the array is handed over, not copied.
+        positions: bytemuck::allocation::try_cast_vec(c.positions)
+            .unwrap_or_else(|(_, p)| p.into_iter().map(Vec3::from_array).collect()),
         counts: c.vertex_counts,
         shape,
         widths: c.widths.map(|w| Primvar {
