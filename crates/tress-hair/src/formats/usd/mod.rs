@@ -36,6 +36,7 @@
 //! `primvars:displayColor` per vertex, `primvars:displayOpacity` when the asset has
 //! transparency, and uniform `primvars:st` for strand UVs, as `.usda` text or `.usdc` binary.
 
+mod memory;
 mod usdc_check;
 mod write;
 
@@ -46,6 +47,8 @@ use glam::{DMat4, Vec2, Vec3};
 use openusd::schemas::geom::{Imageable, Xformable};
 use openusd::sdf::{self, Value};
 use openusd::usd::{Prim, PrimPredicate, SchemaBase, SchemaKind, Stage, TimeCode};
+
+use memory::MemoryResolver;
 
 use super::curves::{CubicBasis, CurveSet, Interp, Primvar, ReadOptions, Shape, Wrap};
 use crate::generate::TriMesh;
@@ -94,48 +97,6 @@ impl SchemaBase for AnyPrim {
 }
 impl Imageable for AnyPrim {}
 impl Xformable for AnyPrim {}
-
-/// Serves one USD file from memory and nothing else (for [`read_usd_bytes`]).
-struct MemoryResolver {
-    name: String,
-    bytes: Vec<u8>,
-}
-
-impl openusd::ar::Resolver for MemoryResolver {
-    fn create_identifier(
-        &self,
-        asset_path: &str,
-        _anchor: Option<&openusd::ar::ResolvedPath>,
-    ) -> String {
-        asset_path.to_string()
-    }
-    fn resolve(&self, asset_path: &str) -> Option<openusd::ar::ResolvedPath> {
-        (asset_path == self.name).then(|| openusd::ar::ResolvedPath::new(&self.name))
-    }
-    fn resolve_for_new_asset(&self, _asset_path: &str) -> Option<openusd::ar::ResolvedPath> {
-        None
-    }
-    fn open_asset(
-        &self,
-        resolved: &openusd::ar::ResolvedPath,
-    ) -> std::io::Result<Box<dyn openusd::ar::Asset>> {
-        if resolved.to_str() == Some(self.name.as_str()) {
-            Ok(Box::new(std::io::Cursor::new(self.bytes.clone())))
-        } else {
-            Err(std::io::Error::new(
-                std::io::ErrorKind::NotFound,
-                "only the file itself is available",
-            ))
-        }
-    }
-    fn get_modification_timestamp(
-        &self,
-        _asset_path: &str,
-        _resolved: &openusd::ar::ResolvedPath,
-    ) -> Option<std::time::SystemTime> {
-        None
-    }
-}
 
 /// Read a USD file from disk (its extension picks the flavour; references resolve beside it).
 pub fn read_usd(path: &Path, options: &ReadOptions) -> Result<UsdContents, HairError> {
@@ -189,10 +150,7 @@ pub fn read_usd_bytes(
         }
         usdc_check::check(bytes).map_err(err)?;
     }
-    let resolver = MemoryResolver {
-        name: name.clone(),
-        bytes: bytes.to_vec(),
-    };
+    let resolver = MemoryResolver::new(&name, bytes);
     guarded(|| {
         let stage = Stage::builder()
             .resolver(resolver)
@@ -399,9 +357,19 @@ fn floats(v: Value, what: &str) -> Result<Vec<f64>, HairError> {
     })
 }
 
+/// Numbers as `f32` (float arrays, the usual case, move as they are).
+fn f32s(v: Value, what: &str) -> Result<Vec<f32>, HairError> {
+    Ok(match v {
+        Value::FloatVec(v) => v,
+        other => floats(other, what)?.into_iter().map(|x| x as f32).collect(),
+    })
+}
+
 fn vec3s(v: Value, what: &str) -> Result<Vec<Vec3>, HairError> {
     Ok(match v {
-        Value::Vec3fVec(v) => v.into_iter().map(|p| Vec3::new(p.x, p.y, p.z)).collect(),
+        // `gf::Vec3f` and `Vec3` have one layout: the array is handed over, not copied.
+        Value::Vec3fVec(v) => bytemuck::allocation::try_cast_vec(v)
+            .unwrap_or_else(|(_, v)| v.into_iter().map(|p| Vec3::new(p.x, p.y, p.z)).collect()),
         Value::Vec3dVec(v) => v
             .into_iter()
             .map(|p| Vec3::new(p.x as f32, p.y as f32, p.z as f32))
@@ -535,13 +503,12 @@ fn curve_set(prim: &Prim, ty: &str, path: &str, world: DMat4) -> Result<CurveSet
             }
         }
     };
-    let to_f32 = |v: Value, w: &str| Ok(floats(v, w)?.into_iter().map(|x| x as f32).collect());
-    let widths = match primvar(prim, "widths", to_f32)? {
+    let widths = match primvar(prim, "widths", f32s)? {
         Some(w) => Some(w),
-        None => primvar(prim, "primvars:widths", to_f32)?,
+        None => primvar(prim, "primvars:widths", f32s)?,
     };
     let colors = primvar(prim, "primvars:displayColor", vec3s)?;
-    let opacity = primvar(prim, "primvars:displayOpacity", to_f32)?;
+    let opacity = primvar(prim, "primvars:displayOpacity", f32s)?;
     let strand_uv = match primvar(prim, "primvars:st", |v, w| {
         Ok(match v {
             Value::Vec2fVec(v) => v.into_iter().map(|p| Vec2::new(p.x, p.y)).collect(),
