@@ -267,3 +267,81 @@ fn compare_splits_strands_and_volume_and_sweeps_distances() {
     );
     assert!(tmp("split-0000.png").exists() && tmp("split-0001.png").exists());
 }
+
+/// A small fur scene at the bear's shape (short 4-vertex strands over the generated body, the
+/// bear's camera, lights and material), thinned to 30,000 strands so it renders quickly.
+fn fur_scene() -> PathBuf {
+    let path = tmp("fur.toml");
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/bear.toml"
+    ))
+    .unwrap()
+    .replace("strands = 48113", "strands = 30000")
+    .replace("follow = { count = 19 }", "");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// `tress compare`'s mean FLIP between strands and volume over the hair's pixels.
+fn hair_flip(scene: &Path, sets: &[&str]) -> f64 {
+    let split = tmp("fur-split.png");
+    let mut args = vec![
+        "compare",
+        scene.to_str().unwrap(),
+        "-o",
+        split.to_str().unwrap(),
+        "--width",
+        "256",
+        "--height",
+        "144",
+        "--repeat",
+        "1",
+        "--json",
+        "--set",
+        "volume.resolution=128",
+    ];
+    for s in sets {
+        args.extend(["--set", s]);
+    }
+    let out = tress(&args);
+    assert_gpu_success(&out);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    v["rows"][0]["flip_hair"].as_f64().unwrap()
+}
+
+#[test]
+fn the_volume_looks_like_the_strands_on_fur() {
+    if skip_gpu() {
+        return;
+    }
+    let scene = fur_scene();
+    // Today's defaults: ADSM's occlusion in the volume, the deeper isosurface, AO off in both.
+    let now = hair_flip(&scene, &[]);
+    // The paper's counted occlusion, thin isosurface and volume-only AO: far lighter than the
+    // strands (the cause of issue 13's "plastic" bear).
+    let paper = hair_flip(
+        &scene,
+        &[
+            "volume.occlusion=\"strands\"",
+            "volume.iso=2",
+            "volume.ao=true",
+        ],
+    );
+    // The occlusion model alone: the counted one with today's isosurface and AO.
+    let counted = hair_flip(&scene, &["volume.occlusion=\"strands\""]);
+    eprintln!(
+        "hair FLIP: defaults {now:.4}, paper settings {paper:.4}, counted occlusion {counted:.4}"
+    );
+    // Measured on lavapipe: 0.321, 0.482, 0.458. (This thin fur prefers a thinner isosurface,
+    // iso = 2: 0.208; the bear and ponytail scenes prefer 16, the default.)
+    assert!(
+        now < 0.75 * paper,
+        "defaults {now} vs paper settings {paper}"
+    );
+    assert!(
+        now < 0.8 * counted,
+        "defaults {now} vs counted occlusion {counted}"
+    );
+    assert!(now < 0.36, "{now}");
+}

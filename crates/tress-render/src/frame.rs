@@ -291,6 +291,12 @@ impl Renderer {
         volume.shading = params.shading;
         volume.raster_shadow_mode = u32::from(plan.shadow_mode == ShadowMode::Volume);
         volume.raster_ao = u32::from(plan.raster_ao);
+        if self.volume_settings.occlusion == crate::volume::Occlusion::Adsm {
+            // ADSM's model in the volume: the strands' r and alpha, so both techniques darken
+            // alike.
+            volume.occlusion_r = self.settings.shadow_r;
+            volume.shadow_alpha = self.settings.shadow_alpha;
+        }
         let q = &ctx.queue;
         q.write_buffer(
             &self.camera,

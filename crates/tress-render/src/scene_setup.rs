@@ -268,6 +268,7 @@ struct VolumeTable {
     iso: Option<f32>,
     skip_empty: Option<bool>,
     shadows: Option<bool>,
+    occlusion: Option<String>,
     shadow_alpha: Option<f32>,
     shadow_step: Option<f32>,
     shadow_offset: Option<f32>,
@@ -304,6 +305,9 @@ pub fn volume_settings(scene: &Scene) -> Result<VolumeSettings, RenderError> {
     );
     if let Some(name) = &t.voxelize {
         s.voxelize = crate::volume::parse_voxelize_mode(name)?;
+    }
+    if let Some(name) = &t.occlusion {
+        s.occlusion = name.parse()?;
     }
     s.validate()?;
     Ok(s)

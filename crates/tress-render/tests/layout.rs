@@ -221,7 +221,11 @@ fn volume_types_match_wgsl() {
                 march_shadows,
                 march_ao,
                 strand_width,
-                _pad0
+                occlusion,
+                occlusion_r,
+                _pad0,
+                _pad1,
+                _pad2
             ]
         );
     }

@@ -19,12 +19,17 @@ fn strands() -> StrandSettings {
     common::sphere_strand_settings()
 }
 
-/// At the scene's scale (head radius 1, about 10 cm; 1200 sparse strands).
+/// At the scene's scale (head radius 1, about 10 cm; 1200 sparse strands), with the occlusion
+/// model, isosurface and ambient occlusion the goldens were recorded with (the defaults before
+/// issue 13's volume/strands agreement work).
 fn volume() -> VolumeSettings {
     VolumeSettings {
         resolution: 64,
         steps: 256,
         ao_radius: 0.1,
+        occlusion: tress_render::volume::Occlusion::Strands,
+        iso: 2.0,
+        ao: true,
         strand_width: 0.01,
         ..Default::default()
     }

@@ -22,7 +22,7 @@ struct Case {
 @group(0) @binding(2) var volume: texture_3d<f32>;
 @group(0) @binding(3) var volume_sampler: sampler;
 
-const OUTPUTS: u32 = 6u;
+const OUTPUTS: u32 = 7u;
 
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) id: vec3u) {
@@ -37,8 +37,8 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let l = c.l.xyz;
     let n = u32(c.p.w);
     results[o + 0u] = vec4f(
-        volume_shadow_strands(volume, volume_sampler, res, x, l, c.x.w, c.l.w),
-        volume_ao(volume, volume_sampler, res, x, c.ao.x, u32(c.ao.y), c.ao.z, c.ao.w),
+        volume_shadow_strands(volume, volume_sampler, res, x, l, c.x.w, c.l.w, NO_CAP),
+        volume_ao(volume, volume_sampler, res, x, c.ao.x, u32(c.ao.y), c.ao.z, c.ao.w, NO_CAP),
         volume_density(volume, volume_sampler, res, x),
         fake_transparency_alpha(c.s.x, c.s.y));
     results[o + 1u] = vec4f(density_gradient(volume, volume_sampler, res, x), lod_factor(c.s.z, c.s.w, c.p.x));
@@ -48,4 +48,9 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     results[o + 3u] = vec4f(ao_offset(n % 64u, 64u), f32(isqrt(n * 977u)));
     results[o + 4u] = vec4f(vec3f(quantize_tangent(l)), f32(voxel_hash(n) & 0xffffu));
     results[o + 5u] = vec4f(ray_box(x, l, vec3f(2.0), vec3f(res - 3.0)), dequantize_tangent(vec3f(200.0, 30.0, 510.0), 2.0).xy);
+    // Capped at one strand per voxel (the ADSM-style occlusion).
+    results[o + 6u] = vec4f(
+        volume_shadow_strands(volume, volume_sampler, res, x, l, c.x.w, c.l.w, 1.0),
+        volume_ao(volume, volume_sampler, res, x, c.ao.x, u32(c.ao.y), c.ao.z, c.ao.w, 1.0),
+        0.0, 0.0);
 }

@@ -24,8 +24,12 @@ fn volume() -> VolumeSettings {
         resolution: 48,
         steps: 128,
         ao_radius: 0.1,
-        // The scene's unit is about 10 cm and its 1200 strands are sparse: thick strands make
-        // the shadows visible.
+        // The strands occlusion model, the paper's thin isosurface and AO on: what these tests
+        // measure. The scene's unit is about 10 cm and its 1200 strands are sparse: thick
+        // strands make the shadows visible.
+        occlusion: tress_render::volume::Occlusion::Strands,
+        iso: 2.0,
+        ao: true,
         strand_width: 0.01,
         ..Default::default()
     }

@@ -15,7 +15,7 @@ use wgpu::util::DeviceExt;
 
 const RES: u32 = 16;
 const CASES: usize = 256;
-const OUTPUTS: usize = 6;
+const OUTPUTS: usize = 7;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -174,10 +174,12 @@ fn volume_functions_match_the_cpu_twins() {
         let x = Vec3::from_slice(&c.x);
         let l = Vec3::from_slice(&c.l);
         let n = c.p[3] as u32;
-        let shadow = cpu::volume_shadow_strands(&vol, x, l, c.x[3], c.l[3]);
-        close("volume_shadow_strands", i, r[0][0], shadow, 0.3, 0.03);
-        let ao = cpu::volume_ao(&vol, x, c.ao[0], c.ao[1] as u32, c.ao[2], c.ao[3]);
-        close("volume_ao", i, r[0][1], ao, 0.02, 0.05);
+        for (k, cap) in [(0, cpu::NO_CAP), (6, 1.0)] {
+            let shadow = cpu::volume_shadow_strands(&vol, x, l, c.x[3], c.l[3], cap);
+            close("volume_shadow_strands", i, r[k][0], shadow, 0.3, 0.03);
+            let ao = cpu::volume_ao(&vol, x, c.ao[0], c.ao[1] as u32, c.ao[2], c.ao[3], cap);
+            close("volume_ao", i, r[k][1], ao, 0.02, 0.05);
+        }
         close("volume_density", i, r[0][2], vol.sample(x), 0.1, 0.02);
         assert_eq!(
             r[0][3],

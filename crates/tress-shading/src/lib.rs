@@ -119,8 +119,9 @@ pub use shadow::{
 };
 pub use shortcut::{resolve_shortcut, shortcut_accumulator};
 pub use volume::{
-    DensityVolume, VolumeSizeError, ao_offset, density_gradient, density_normal, dither_threshold,
-    fake_transparency_alpha, lod_factor, ray_box, volume_ao, volume_shadow_strands,
+    DensityVolume, NO_CAP, VolumeSizeError, ao_offset, density_gradient, density_normal,
+    dither_threshold, fake_transparency_alpha, lod_factor, ray_box, volume_ao,
+    volume_shadow_strands,
 };
 pub use voxelize::{
     VoxelCounts, VoxelGrid, VoxelValue, VoxelizeMode, dequantize_tangent, quantize_tangent,

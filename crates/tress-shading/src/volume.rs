@@ -119,15 +119,21 @@ pub fn ray_box(o: Vec3, d: Vec3, lo: Vec3, hi: Vec3) -> (f32, f32) {
     (near.max_element(), far.min_element())
 }
 
+/// The `cap` of [`volume_shadow_strands`] and [`volume_ao`] that caps nothing: every strand counts.
+pub const NO_CAP: f32 = 1e30;
+
 /// Strands between voxel position `x` and the grid's edge towards unit direction `l` (§3.4):
-/// `Σ density(x + l t) · step` for `t = max(offset, t_enter), + step, ...` while inside the grid.
-/// `offset` (voxels) skips the point's own strands.
+/// `Σ min(density(x + l t), cap) · step` for `t = max(offset, t_enter), + step, ...` while inside
+/// the grid. `offset` (voxels) skips the point's own strands. With `cap` = [`NO_CAP`] this counts
+/// the strands passed; with `cap` = 1 it is the length in voxels of the ray's path inside the
+/// hair (voxels holding a strand or more), the depth ADSM's `r` multiplies.
 pub fn volume_shadow_strands(
     vol: &DensityVolume<'_>,
     x: Vec3,
     l: Vec3,
     step: f32,
     offset: f32,
+    cap: f32,
 ) -> f32 {
     let res = vol.res() as f32;
     let (t0, t1) = ray_box(x, l, Vec3::ZERO, Vec3::splat(res));
@@ -135,7 +141,7 @@ pub fn volume_shadow_strands(
     let mut n = 0.0;
     let mut i = 0;
     while i < MAX_MARCH_STEPS && t < t1 {
-        n += vol.sample(x + l * t) * step;
+        n += vol.sample(x + l * t).min(cap) * step;
         t += step;
         i += 1;
     }
@@ -156,9 +162,10 @@ pub fn ao_offset(i: u32, n: u32) -> Vec3 {
     Vec3::new(r * phi.cos(), r * phi.sin(), z) * radius
 }
 
-/// Local ambient occlusion at voxel position `x` (§3.4): with the mean density `m` of
-/// `min(samples, MAX_AO_SAMPLES)` points in the ball of `radius` voxels,
-/// `strand_visibility(intensity · m · radius, alpha)`. 1 without samples or radius.
+/// Local ambient occlusion at voxel position `x` (§3.4): with the mean `m` of
+/// `min(density, cap)` at `min(samples, MAX_AO_SAMPLES)` points in the ball of `radius` voxels,
+/// `strand_visibility(intensity · m · radius, alpha)`. 1 without samples or radius. `cap` as in
+/// [`volume_shadow_strands`].
 pub fn volume_ao(
     vol: &DensityVolume<'_>,
     x: Vec3,
@@ -166,6 +173,7 @@ pub fn volume_ao(
     samples: u32,
     intensity: f32,
     alpha: f32,
+    cap: f32,
 ) -> f32 {
     let n = samples.min(MAX_AO_SAMPLES);
     if n == 0 || radius <= 0.0 {
@@ -173,7 +181,7 @@ pub fn volume_ao(
     }
     let mut sum = 0.0;
     for i in 0..n {
-        sum += vol.sample(x + ao_offset(i, n) * radius);
+        sum += vol.sample(x + ao_offset(i, n) * radius).min(cap);
     }
     let mean = sum / n as f32;
     strand_visibility(intensity * mean * radius, alpha)
@@ -258,15 +266,24 @@ mod tests {
         // A slab 3 voxels thick with 2 strands per voxel: 6 strands between the two sides.
         let d = slab(16, 8, 11, 2.0);
         let v = DensityVolume::new(16, &d).unwrap();
-        let n = volume_shadow_strands(&v, Vec3::new(2.0, 8.0, 8.0), Vec3::X, 0.25, 0.5);
+        let n = volume_shadow_strands(&v, Vec3::new(2.0, 8.0, 8.0), Vec3::X, 0.25, 0.5, NO_CAP);
         assert!((n - 6.0).abs() < 0.3, "{n}");
         // Looking away from the slab: nothing.
-        let n = volume_shadow_strands(&v, Vec3::new(2.0, 8.0, 8.0), Vec3::NEG_X, 0.25, 0.5);
+        let n = volume_shadow_strands(&v, Vec3::new(2.0, 8.0, 8.0), Vec3::NEG_X, 0.25, 0.5, NO_CAP);
         assert_eq!(n, 0.0);
         // A point outside the grid starts where the ray enters it.
-        let n = volume_shadow_strands(&v, Vec3::new(-20.0, 8.0, 8.0), Vec3::X, 0.25, 0.5);
+        let n = volume_shadow_strands(&v, Vec3::new(-20.0, 8.0, 8.0), Vec3::X, 0.25, 0.5, NO_CAP);
         assert!((n - 6.0).abs() < 0.3, "{n}");
         assert!((strand_visibility(n, 0.25) - 0.75f32.powf(6.0)).abs() < 0.05);
+        // Capped at one strand per voxel: the path's length inside the hair, the 3 voxels plus
+        // the trilinear ramps at the two faces where the filtered density passes 1 strand
+        // (0 -> 2 over a voxel: 3/4 of it counts at each face, where the plain count has 1).
+        let depth = volume_shadow_strands(&v, Vec3::new(2.0, 8.0, 8.0), Vec3::X, 0.25, 0.5, 1.0);
+        assert!((depth - 3.5).abs() < 0.1, "{depth}");
+        // And the same slab twice as dense is no deeper.
+        let dense = DensityVolume::new(16, &slab(16, 8, 11, 4.0))
+            .map(|v| volume_shadow_strands(&v, Vec3::new(2.0, 8.0, 8.0), Vec3::X, 0.25, 0.5, 1.0));
+        assert!((dense.unwrap() - depth).abs() < 0.3);
     }
 
     #[test]
@@ -290,12 +307,15 @@ mod tests {
             DensityVolume::new(8, &full).unwrap(),
         );
         let x = Vec3::splat(4.0);
-        assert_eq!(volume_ao(&e, x, 2.0, 16, 1.0, 0.3), 1.0);
-        let a = volume_ao(&f, x, 2.0, 16, 1.0, 0.3);
+        assert_eq!(volume_ao(&e, x, 2.0, 16, 1.0, 0.3, NO_CAP), 1.0);
+        let a = volume_ao(&f, x, 2.0, 16, 1.0, 0.3, NO_CAP);
         assert!((a - 0.7f32.powf(6.0)).abs() < 1e-4, "{a}");
-        assert!(volume_ao(&f, x, 2.0, 16, 2.0, 0.3) < a);
-        assert_eq!(volume_ao(&f, x, 2.0, 0, 1.0, 0.3), 1.0);
-        assert_eq!(volume_ao(&f, x, 0.0, 16, 1.0, 0.3), 1.0);
+        assert!(volume_ao(&f, x, 2.0, 16, 2.0, 0.3, NO_CAP) < a);
+        assert_eq!(volume_ao(&f, x, 2.0, 0, 1.0, 0.3, NO_CAP), 1.0);
+        assert_eq!(volume_ao(&f, x, 0.0, 16, 1.0, 0.3, NO_CAP), 1.0);
+        // Capped at one strand per voxel: the ball counts as full of hair, whatever its density.
+        let capped = volume_ao(&f, x, 2.0, 16, 1.0, 0.3, 1.0);
+        assert!((capped - 0.7f32.powf(2.0)).abs() < 1e-4, "{capped}");
     }
 
     #[test]

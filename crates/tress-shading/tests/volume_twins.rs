@@ -35,7 +35,7 @@ const FUNCTIONS: &[(&str, &[&str])] = &[
     ("ray_box", &["o", "d", "lo", "hi"]),
     (
         "volume_shadow_strands",
-        &["tex", "samp", "res", "x", "l", "step", "offset"],
+        &["tex", "samp", "res", "x", "l", "step", "offset", "cap"],
     ),
     ("ao_offset", &["i", "n"]),
     (
@@ -49,6 +49,7 @@ const FUNCTIONS: &[(&str, &[&str])] = &[
             "samples",
             "intensity",
             "alpha",
+            "cap",
         ],
     ),
     ("density_gradient", &["tex", "samp", "res", "x"]),
@@ -98,9 +99,9 @@ fn cpu_twins_exist_with_the_same_arity() {
     let _ = segment_sample_count(UVec3::ZERO, UVec3::ONE, 0);
     let _ = segment_sample(IVec3::ZERO, IVec3::ONE, 0, 1);
     let _ = ray_box(Vec3::ZERO, Vec3::X, Vec3::ZERO, Vec3::ONE);
-    let _ = volume_shadow_strands(&vol, Vec3::ONE, Vec3::X, 1.0, 0.0);
+    let _ = volume_shadow_strands(&vol, Vec3::ONE, Vec3::X, 1.0, 0.0, 1.0);
     let _ = ao_offset(0, 1);
-    let _ = volume_ao(&vol, Vec3::ONE, 1.0, 4, 1.0, 0.5);
+    let _ = volume_ao(&vol, Vec3::ONE, 1.0, 4, 1.0, 0.5, 1.0);
     let _ = density_normal(density_gradient(&vol, Vec3::ONE), Vec3::Z);
     let _ = (fake_transparency_alpha(1.0, 2.0), lod_factor(1.0, 0.0, 2.0));
     let _ = dither_threshold(UVec2::ZERO);

@@ -447,6 +447,12 @@ fn volume_settings(ui: &mut Ui, v: &VolumeSettings, form: &mut Form<'_>) {
     form.log_float(ui, "volume.iso", v.iso, 0.05..=64.0, Apply::Live);
     form.check(ui, "volume.skip_empty", v.skip_empty);
     form.check(ui, "volume.shadows", v.shadows);
+    form.choice(
+        ui,
+        "volume.occlusion",
+        v.occlusion.name(),
+        &["adsm", "strands"],
+    );
     form.float(
         ui,
         "volume.shadow_alpha",

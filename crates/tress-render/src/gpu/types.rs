@@ -335,8 +335,17 @@ pub struct VolumeParams {
     pub march_ao: u32,
     /// Effective strand width in world units (occlusion per strand crossing a voxel).
     pub strand_width: f32,
+    /// How shadows and AO count strands in the way: 0 strands × strand width, 1 ADSM's `r` ×
+    /// the path's length inside the hair.
+    pub occlusion: u32,
+    /// ADSM's `r` (strands per world unit of depth) for `occlusion` 1.
+    pub occlusion_r: f32,
     /// Padding.
     pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+    /// Padding.
+    pub _pad2: u32,
 }
 
 /// `struct VoxelStats` in `volume/voxelize.wgsl`: the voxel counters' occupancy.

@@ -378,6 +378,7 @@ impl Voxelizer {
             march_shadows: u32::from(settings.shadows),
             march_ao: u32::from(settings.ao),
             strand_width: settings.strand_width,
+            occlusion: settings.occlusion.gpu(),
             ..Default::default()
         }
     }

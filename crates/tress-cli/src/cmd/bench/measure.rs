@@ -109,7 +109,8 @@ pub(crate) fn camera_at(session: &Session, size: [u32; 2], factor: f32) -> Camer
 }
 
 /// Render `warmup` frames, then time `frames` frames, then measure the coverage on one frame
-/// with and one without the hair. Returns the measurement, the last frame with hair and, with
+/// with and one without the hair. Returns the measurement, the last frame with hair (and the
+/// pixels the hair covers in it) and, with
 /// `exact`, that frame as exact sorted compositing draws it (`Session::sort_exactly`: a strand
 /// frame drawn with the PPLL that lost nothing, else an error).
 pub(crate) fn measure(
@@ -120,7 +121,7 @@ pub(crate) fn measure(
     warmup: u32,
     frames: u32,
     exact: bool,
-) -> Result<(Measurement, LinearImage, Option<LinearImage>)> {
+) -> Result<(Measurement, super::agreement::Frame, Option<LinearImage>)> {
     session.set_hair_visible(true);
     for _ in 0..warmup {
         session.render(ctx, &targets.targets(), camera, None)?;
@@ -177,7 +178,10 @@ pub(crate) fn measure(
             oit,
             flip: None,
         },
-        image,
+        super::agreement::Frame {
+            hair: hair_mask(&image, &bare),
+            image,
+        },
         exact,
     ))
 }

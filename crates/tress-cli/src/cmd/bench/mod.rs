@@ -8,6 +8,7 @@
 //! PNG and SVG, and `summary.md` naming the adapter. `--quality` adds the image-quality report
 //! against the CPU reference ray tracer ([`quality`]).
 
+mod agreement;
 mod chart;
 mod measure;
 mod quality;
@@ -219,7 +220,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let mut done = Vec::new();
     for sw in plan {
         let mut rows = Vec::new();
-        let mut images = Vec::new();
+        let mut frames_kept = Vec::new();
         let mut exact = None;
         // A fresh session per sweep: the sweep's overrides never leak into the next one.
         let mut session = run.session()?;
@@ -278,12 +279,18 @@ pub(crate) fn run(args: Args) -> Result<()> {
                     x: p.x,
                     result,
                 });
-                // Only the `oit` sweep scores frames against a reference frame.
-                images.push(image.filter(|_| sw.name == "oit"));
+                // Only the `oit` and `distance` sweeps score frames against a reference frame.
+                frames_kept.push(image.filter(|_| matches!(sw.name, "oit" | "distance")));
             }
         }
         if sw.name == "oit" {
+            let images: Vec<_> = frames_kept
+                .into_iter()
+                .map(|f| f.map(|f| f.image))
+                .collect();
             score_against_reference(&mut rows, &images, exact.as_ref());
+        } else if sw.name == "distance" {
+            agreement::score_against_strands(&mut rows, &frames_kept);
         }
         report::write(
             &run.dir,

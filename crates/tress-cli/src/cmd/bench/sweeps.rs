@@ -10,6 +10,11 @@
 //! | `patches`    | 3-pass vs 4-pass                | patches                      | Scheuermann slides |
 //! | `oit`        | k, PPLL vs ShortCut             | strands (two OITs)           | beyond: TressFX 4.1 |
 //!
+//! The `distance` sweep scores every technique's frame (its CSV `flip` column) by mean FLIP
+//! against the strand rasterizer's frame at the same distance, over the pixels either frame's
+//! hair covers (`agreement.rs`): the hybrid paper's Figure 1 claim, volume ≈ strands from medium
+//! distance on.
+//!
 //! The `oit` sweep draws the strands with the paper's PPLL (its pool allowed to hold the whole
 //! frame, so it loses nothing where the device allows) and with ShortCut at each k, and scores
 //! every frame by mean FLIP against exact sorted compositing: the PPLL's k = 16 frame with its

@@ -38,13 +38,24 @@ fn volume_light_visibility(i: u32, p: vec3<f32>) -> f32 {
     }
     let n = volume_shadow_strands(
         volume_texture, volume_sampler, f32(volume_grid.res), voxel_from_world(volume_grid, p),
-        lights.lights[i].to_light, volume_params.shadow_step, volume_params.shadow_offset);
+        lights.lights[i].to_light, volume_params.shadow_step, volume_params.shadow_offset,
+        volume_occlusion_cap());
     return strand_visibility(n * volume_hit_fraction(), volume_params.shadow_alpha);
 }
 
-// The share of the strands crossing a voxel that a ray through it meets: strand width over
-// voxel size (turns strands passed into strands in the way).
+// The most a voxel counts in shadows and AO: every strand (OCCLUSION_STRANDS), or one (ADSM:
+// the march measures the path's length inside the hair).
+fn volume_occlusion_cap() -> f32 {
+    return select(NO_CAP, 1.0, volume_params.occlusion == OCCLUSION_ADSM);
+}
+
+// What turns the march's count into strands in the way: the share of the strands crossing a
+// voxel that a ray through it meets (strand width over voxel size), or ADSM's r per voxel of
+// path inside the hair (r times the voxel size).
 fn volume_hit_fraction() -> f32 {
+    if volume_params.occlusion == OCCLUSION_ADSM {
+        return volume_params.occlusion_r / volume_grid.scale;
+    }
     return volume_params.strand_width * volume_grid.scale;
 }
 
@@ -56,7 +67,8 @@ fn volume_ambient_occlusion(p: vec3<f32>) -> f32 {
     return volume_ao(
         volume_texture, volume_sampler, f32(volume_grid.res), voxel_from_world(volume_grid, p),
         volume_params.ao_radius * volume_grid.scale, volume_params.ao_samples,
-        volume_params.ao_intensity * volume_hit_fraction(), volume_params.shadow_alpha);
+        volume_params.ao_intensity * volume_hit_fraction(), volume_params.shadow_alpha,
+        volume_occlusion_cap());
 }
 
 // Shadow visibility of world point `p` from light `i` (1: lit): the volume shadow when

@@ -83,7 +83,13 @@ struct VolumeParams {
     // Effective strand width in world units: a strand crossing a voxel blocks a ray through it
     // with probability strand_width / voxel_size (shadows and ambient occlusion count those).
     strand_width: f32,
+    // OCCLUSION_*: how shadows and ambient occlusion turn the volume into strands in the way.
+    occlusion: u32,
+    // OCCLUSION_ADSM: strands in the way per world unit of path inside the hair (ADSM's r).
+    occlusion_r: f32,
     _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 const VOXELIZE_VERTICES: u32 = 0u;
@@ -96,6 +102,12 @@ const SUBVOXEL_BITS: u32 = 4u;
 const TANGENT_LEVELS: f32 = 255.0;
 const MAX_MARCH_STEPS: u32 = 4096u;
 const MAX_AO_SAMPLES: u32 = 64u;
+// The cap of volume_shadow_strands and volume_ao that caps nothing (tress_shading::NO_CAP).
+const NO_CAP: f32 = 1e30;
+// VolumeParams.occlusion: strands passed times strand_width / voxel size (the strand model),
+// or ADSM's r times the path's length inside the hair (voxels holding a strand or more).
+const OCCLUSION_STRANDS: u32 = 0u;
+const OCCLUSION_ADSM: u32 = 1u;
 const GOLDEN_ANGLE: f32 = 2.3999633;
 const GOLDEN_RATIO_CONJUGATE: f32 = 0.618034;
 // Edge of an occupancy block in voxels.
@@ -198,13 +210,14 @@ fn volume_shadow_strands(
     l: vec3<f32>,
     step: f32,
     offset: f32,
+    cap: f32,
 ) -> f32 {
     let span = ray_box(x, l, vec3<f32>(0.0), vec3<f32>(res));
     var t = max(offset, span.x);
     var n = 0.0;
     var i = 0u;
     while i < MAX_MARCH_STEPS && t < span.y {
-        n = n + volume_density(tex, samp, res, x + l * t) * step;
+        n = n + min(volume_density(tex, samp, res, x + l * t), cap) * step;
         t = t + step;
         i = i + 1u;
     }
@@ -231,6 +244,7 @@ fn volume_ao(
     samples: u32,
     intensity: f32,
     alpha: f32,
+    cap: f32,
 ) -> f32 {
     let n = min(samples, MAX_AO_SAMPLES);
     if n == 0u || radius <= 0.0 {
@@ -238,7 +252,7 @@ fn volume_ao(
     }
     var sum = 0.0;
     for (var i = 0u; i < n; i = i + 1u) {
-        sum = sum + volume_density(tex, samp, res, x + ao_offset(i, n) * radius);
+        sum = sum + min(volume_density(tex, samp, res, x + ao_offset(i, n) * radius), cap);
     }
     let mean = sum / f32(n);
     return strand_visibility(intensity * mean * radius, alpha);
