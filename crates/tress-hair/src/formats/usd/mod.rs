@@ -3,7 +3,10 @@
 //! # Reading
 //!
 //! The stage is opened and composed (references, payloads, sublayers, variants) and every
-//! active prim is visited:
+//! active prim is visited. A `.usdc` file whose one layer has no composition arcs is read
+//! without a stage, straight from the caller's bytes ([`layer`]: the same prims, values and
+//! transforms, several times faster); anything that layer path does not model goes to the stage.
+//! Either way the prims are read by [`schema`]:
 //!
 //! - `BasisCurves`: `curveVertexCounts`, `points`, `type` (`linear`, or `cubic` with `basis`
 //!   `bezier`, `bspline` or `catmullRom` and `wrap` `nonperiodic`, `pinned` or `periodic`,
@@ -36,21 +39,24 @@
 //! `primvars:displayColor` per vertex, `primvars:displayOpacity` when the asset has
 //! transparency, and uniform `primvars:st` for strand UVs, as `.usda` text or `.usdc` binary.
 
+mod layer;
 mod memory;
+mod schema;
 mod usdc_check;
 mod write;
 
 use std::collections::HashMap;
 use std::path::Path;
 
-use glam::{DMat4, Vec2, Vec3};
+use glam::DMat4;
 use openusd::schemas::geom::{Imageable, Xformable};
-use openusd::sdf::{self, Value};
+use openusd::sdf;
 use openusd::usd::{Prim, PrimPredicate, SchemaBase, SchemaKind, Stage, TimeCode};
 
 use memory::MemoryResolver;
+use schema::Attrs;
 
-use super::curves::{CubicBasis, CurveSet, Interp, Primvar, ReadOptions, Shape, Wrap};
+use super::curves::ReadOptions;
 use crate::generate::TriMesh;
 use crate::{HairAsset, HairError};
 
@@ -106,6 +112,10 @@ pub fn read_usd(path: &Path, options: &ReadOptions) -> Result<UsdContents, HairE
     // openusd reports a missing file as an unresolvable asset; say it plainly.
     let bytes = std::fs::read(path).map_err(HairError::from)?;
     check_crate(&bytes)?;
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if let Some(c) = direct(&bytes, ext, options) {
+        return Ok(c);
+    }
     guarded(|| {
         let stage = Stage::open(name).map_err(|e| err(format!("{e:#}")))?;
         contents(&stage, options)
@@ -140,7 +150,6 @@ pub fn read_usd_bytes(
     extension: &str,
     options: &ReadOptions,
 ) -> Result<UsdContents, HairError> {
-    let name = format!("memory.{extension}");
     if extension == "usdc" {
         if !bytes.starts_with(b"PXR-USDC") {
             return Err(err(format!(
@@ -149,7 +158,31 @@ pub fn read_usd_bytes(
             )));
         }
         usdc_check::check(bytes).map_err(err)?;
+        if let Some(c) = direct(bytes, extension, options) {
+            return Ok(c);
+        }
     }
+    read_through_stage(bytes, extension, options)
+}
+
+/// [`layer::read`] for a file that openusd reads as a crate file (`.usdc`, or `.usd` starting
+/// with the crate magic); other files: `None`, the stage reads them.
+fn direct(bytes: &[u8], extension: &str, options: &ReadOptions) -> Option<UsdContents> {
+    let crate_ext = extension.eq_ignore_ascii_case("usdc") || extension.eq_ignore_ascii_case("usd");
+    if crate_ext && bytes.starts_with(b"PXR-USDC") {
+        layer::read(bytes, options)
+    } else {
+        None
+    }
+}
+
+/// [`read_usd_bytes`] through a composed stage, whatever the file holds.
+pub(super) fn read_through_stage(
+    bytes: &[u8],
+    extension: &str,
+    options: &ReadOptions,
+) -> Result<UsdContents, HairError> {
+    let name = format!("memory.{extension}");
     let resolver = MemoryResolver::new(&name, bytes);
     guarded(|| {
         let stage = Stage::builder()
@@ -215,13 +248,18 @@ fn is_identifier(name: &str) -> bool {
 /// damaged name (`xformOp}rotateY`, one changed byte in a test file) sent its path parsing into
 /// an endless loop.
 fn check_op_order(prim: &AnyPrim, path: &sdf::Path) -> Result<(), HairError> {
-    let Some(order) = prim
+    match prim
         .xform_op_order()
         .map_err(|e| err(format!("{path}: {e:#}")))?
-    else {
-        return Ok(());
-    };
-    for op in &order {
+    {
+        Some(order) => check_op_names(&order, path),
+        None => Ok(()),
+    }
+}
+
+/// [`check_op_order`]'s test of each entry.
+fn check_op_names(order: &[String], path: &sdf::Path) -> Result<(), HairError> {
+    for op in order {
         let name = op.strip_prefix("!invert!").unwrap_or(op);
         if op != "!resetXformStack!" && !name.split(':').all(is_identifier) {
             return Err(err(format!(
@@ -233,6 +271,52 @@ fn check_op_order(prim: &AnyPrim, path: &sdf::Path) -> Result<(), HairError> {
     Ok(())
 }
 
+/// The curves and meshes found so far, merged by [`Found::finish`].
+#[derive(Default)]
+struct Found {
+    assets: Vec<HairAsset>,
+    meshes: Vec<TriMesh>,
+    info: UsdInfo,
+}
+
+impl Found {
+    /// Read the prim `prim` of schema `ty` (`BasisCurves`, `NurbsCurves` or `Mesh`).
+    fn add(
+        &mut self,
+        prim: &impl Attrs,
+        ty: &str,
+        world: DMat4,
+        options: &ReadOptions,
+    ) -> Result<(), HairError> {
+        let where_ = prim.prim_path().to_string();
+        if ty == "Mesh" {
+            self.meshes.push(schema::mesh(prim, &where_, world)?);
+            self.info.meshes.push(where_);
+            return Ok(());
+        }
+        let set = schema::curve_set(prim, ty, &where_, world)?;
+        self.info.prims.push(where_);
+        if let Some(a) = set.into_asset(options).map_err(in_format)? {
+            self.assets.push(a);
+        }
+        Ok(())
+    }
+
+    fn finish(self) -> Result<UsdContents, HairError> {
+        let hair = if self.assets.is_empty() {
+            None
+        } else {
+            Some(HairAsset::merge_owned(self.assets).map_err(in_format)?)
+        };
+        let mesh = merge_meshes(self.meshes);
+        Ok(UsdContents {
+            hair,
+            mesh,
+            info: self.info,
+        })
+    }
+}
+
 fn contents(stage: &Stage, options: &ReadOptions) -> Result<UsdContents, HairError> {
     check_hierarchy(stage)?;
     let mut paths = Vec::new();
@@ -240,9 +324,7 @@ fn contents(stage: &Stage, options: &ReadOptions) -> Result<UsdContents, HairErr
         .traverse(PrimPredicate::DEFAULT, |p| paths.push(p.clone()))
         .map_err(|e| err(format!("{e:#}")))?;
     let mut worlds: HashMap<String, DMat4> = HashMap::new();
-    let mut assets = Vec::new();
-    let mut meshes = Vec::new();
-    let mut info = UsdInfo::default();
+    let mut found = Found::default();
     for path in &paths {
         let prim = stage.prim(path.clone());
         let ty = prim.type_name().map_err(|e| err(format!("{e:#}")))?;
@@ -251,28 +333,12 @@ fn contents(stage: &Stage, options: &ReadOptions) -> Result<UsdContents, HairErr
             continue;
         }
         let world = world_transform(stage, path, &mut worlds)?;
-        let where_ = path.as_str().to_string();
-        if ty == "Mesh" {
-            meshes.push(mesh(&prim, &where_, world)?);
-            info.meshes.push(where_);
-            continue;
-        }
-        let set = curve_set(&prim, ty, &where_, world)?;
-        info.prims.push(where_);
-        if let Some(a) = set.into_asset(options).map_err(in_format)? {
-            assets.push(a);
-        }
+        found.add(&prim, ty, world, options)?;
     }
     if let Some(e) = stage.composition_errors().first() {
         return Err(err(format!("composition error: {e}")));
     }
-    let hair = if assets.is_empty() {
-        None
-    } else {
-        Some(HairAsset::merge_owned(assets).map_err(in_format)?)
-    };
-    let mesh = merge_meshes(meshes);
-    Ok(UsdContents { hair, mesh, info })
+    found.finish()
 }
 
 fn in_format(e: HairError) -> HairError {
@@ -313,288 +379,6 @@ fn world_transform(
     }
     cache.insert(path.as_str().to_string(), world);
     Ok(world)
-}
-
-/// An attribute's value: its default, else its earliest time sample.
-fn value(prim: &Prim, name: &str) -> Result<Option<Value>, HairError> {
-    let attr = prim.attribute(name);
-    let where_ = || format!("{}.{name}", prim.path().as_str());
-    match attr.get::<Value>() {
-        Ok(Some(v)) => Ok(Some(v)),
-        Ok(None) => attr
-            .get_at::<Value>(TimeCode::EARLIEST)
-            .map_err(|e| err(format!("{}: {e:#}", where_()))),
-        Err(e) => Err(err(format!("{}: {e:#}", where_()))),
-    }
-}
-
-fn token(prim: &Prim, name: &str) -> Result<Option<String>, HairError> {
-    Ok(match value(prim, name)? {
-        Some(Value::Token(t)) => Some(t.as_str().to_string()),
-        Some(Value::String(s)) => Some(s),
-        _ => None,
-    })
-}
-
-fn ints(v: Value, what: &str) -> Result<Vec<i64>, HairError> {
-    Ok(match v {
-        Value::IntVec(v) => v.into_iter().map(i64::from).collect(),
-        Value::UintVec(v) => v.into_iter().map(i64::from).collect(),
-        Value::Int64Vec(v) => v,
-        Value::Int(i) => vec![i64::from(i)],
-        other => return Err(err(format!("{what} is {}, not integers", kind_of(&other)))),
-    })
-}
-
-fn floats(v: Value, what: &str) -> Result<Vec<f64>, HairError> {
-    Ok(match v {
-        Value::FloatVec(v) => v.into_iter().map(f64::from).collect(),
-        Value::DoubleVec(v) => v,
-        Value::HalfVec(v) => v.into_iter().map(f64::from).collect(),
-        Value::Float(f) => vec![f64::from(f)],
-        Value::Double(f) => vec![f],
-        other => return Err(err(format!("{what} is {}, not numbers", kind_of(&other)))),
-    })
-}
-
-/// Numbers as `f32` (float arrays, the usual case, move as they are).
-fn f32s(v: Value, what: &str) -> Result<Vec<f32>, HairError> {
-    Ok(match v {
-        Value::FloatVec(v) => v,
-        other => floats(other, what)?.into_iter().map(|x| x as f32).collect(),
-    })
-}
-
-fn vec3s(v: Value, what: &str) -> Result<Vec<Vec3>, HairError> {
-    Ok(match v {
-        // `gf::Vec3f` and `Vec3` have one layout: the array is handed over, not copied.
-        Value::Vec3fVec(v) => bytemuck::allocation::try_cast_vec(v)
-            .unwrap_or_else(|(_, v)| v.into_iter().map(|p| Vec3::new(p.x, p.y, p.z)).collect()),
-        Value::Vec3dVec(v) => v
-            .into_iter()
-            .map(|p| Vec3::new(p.x as f32, p.y as f32, p.z as f32))
-            .collect(),
-        Value::Vec3hVec(v) => v
-            .into_iter()
-            .map(|p| Vec3::new(p.x.to_f32(), p.y.to_f32(), p.z.to_f32()))
-            .collect(),
-        other => return Err(err(format!("{what} is {}, not 3-vectors", kind_of(&other)))),
-    })
-}
-
-fn kind_of(v: &Value) -> String {
-    let s = format!("{v:?}");
-    s.split(['(', ' ', '{'])
-        .next()
-        .unwrap_or("a value")
-        .to_string()
-}
-
-fn interp_of(prim: &Prim, name: &str) -> Option<Interp> {
-    let v = prim
-        .attribute(name)
-        .get_metadata::<Value>("interpolation")
-        .ok()
-        .flatten();
-    match v {
-        Some(Value::Token(t)) => match t.as_str() {
-            "constant" => Some(Interp::Constant),
-            "uniform" => Some(Interp::Uniform),
-            "varying" | "faceVarying" => Some(Interp::Varying),
-            "vertex" => Some(Interp::Vertex),
-            _ => None,
-        },
-        _ => None,
-    }
-}
-
-/// A primvar, expanded through `NAME:indices` when indexed.
-fn primvar<T: Copy>(
-    prim: &Prim,
-    name: &str,
-    convert: impl Fn(Value, &str) -> Result<Vec<T>, HairError>,
-) -> Result<Option<Primvar<T>>, HairError> {
-    let where_ = format!("{}.{name}", prim.path().as_str());
-    let Some(v) = value(prim, name)? else {
-        return Ok(None);
-    };
-    let mut values = convert(v, &where_)?;
-    if let Some(idx) = value(prim, &format!("{name}:indices"))? {
-        let idx = ints(idx, &where_)?;
-        let n = values.len();
-        values = idx
-            .into_iter()
-            .map(|i| {
-                usize::try_from(i)
-                    .ok()
-                    .and_then(|i| values.get(i).copied())
-                    .ok_or_else(|| err(format!("{where_}: index {i} is past its {n} values")))
-            })
-            .collect::<Result<_, _>>()?;
-    }
-    if values.is_empty() {
-        return Ok(None);
-    }
-    Ok(Some(Primvar {
-        interp: interp_of(prim, name),
-        values,
-    }))
-}
-
-fn counts(prim: &Prim, name: &str, what: &str) -> Result<Vec<u32>, HairError> {
-    let v = value(prim, name)?.ok_or_else(|| err(format!("{what} has no {name}")))?;
-    ints(v, what)?
-        .into_iter()
-        .enumerate()
-        .map(|(i, c)| u32::try_from(c).map_err(|_| err(format!("{what}: {name}[{i}] is {c}"))))
-        .collect()
-}
-
-fn curve_set(prim: &Prim, ty: &str, path: &str, world: DMat4) -> Result<CurveSet, HairError> {
-    let counts = counts(prim, "curveVertexCounts", path)?;
-    let positions = match value(prim, "points")? {
-        Some(v) => vec3s(v, &format!("{path}.points"))?,
-        None => return Err(err(format!("{path} has no points"))),
-    };
-    let shape = if ty == "NurbsCurves" {
-        let orders = counts_or_empty(prim, "order", path)?;
-        let knots = match value(prim, "knots")? {
-            Some(v) => floats(v, &format!("{path}.knots"))?,
-            None => Vec::new(),
-        };
-        let weights = match value(prim, "pointWeights")? {
-            Some(v) => Some(floats(v, &format!("{path}.pointWeights"))?),
-            None => None,
-        };
-        if orders.len() != counts.len() {
-            return Err(err(format!(
-                "{path}: {} orders for {} curves",
-                orders.len(),
-                counts.len()
-            )));
-        }
-        Shape::Nurbs {
-            orders,
-            knots,
-            weights,
-        }
-    } else {
-        match token(prim, "type")?.as_deref().unwrap_or("cubic") {
-            "linear" => Shape::Linear,
-            "cubic" => {
-                let basis = match token(prim, "basis")?.as_deref().unwrap_or("bezier") {
-                    "bezier" => CubicBasis::Bezier,
-                    "bspline" => CubicBasis::Bspline,
-                    "catmullRom" => CubicBasis::CatmullRom,
-                    other => return Err(err(format!("{path}: basis `{other}` is not supported"))),
-                };
-                let wrap = match token(prim, "wrap")?.as_deref().unwrap_or("nonperiodic") {
-                    "nonperiodic" => Wrap::NonPeriodic,
-                    "pinned" => Wrap::Pinned,
-                    "periodic" => Wrap::Periodic,
-                    other => return Err(err(format!("{path}: wrap `{other}` is not supported"))),
-                };
-                Shape::Cubic(basis, wrap)
-            }
-            other => {
-                return Err(err(format!(
-                    "{path}: type `{other}` is not linear or cubic"
-                )));
-            }
-        }
-    };
-    let widths = match primvar(prim, "widths", f32s)? {
-        Some(w) => Some(w),
-        None => primvar(prim, "primvars:widths", f32s)?,
-    };
-    let colors = primvar(prim, "primvars:displayColor", vec3s)?;
-    let opacity = primvar(prim, "primvars:displayOpacity", f32s)?;
-    let strand_uv = match primvar(prim, "primvars:st", |v, w| {
-        Ok(match v {
-            Value::Vec2fVec(v) => v.into_iter().map(|p| Vec2::new(p.x, p.y)).collect(),
-            Value::Vec2dVec(v) => v
-                .into_iter()
-                .map(|p| Vec2::new(p.x as f32, p.y as f32))
-                .collect(),
-            other => return Err(err(format!("{w} is {}, not 2-vectors", kind_of(&other)))),
-        })
-    })? {
-        Some(st) if st.interp == Some(Interp::Uniform) && st.values.len() == counts.len() => {
-            Some(st.values)
-        }
-        _ => None,
-    };
-    Ok(CurveSet {
-        name: path.to_string(),
-        positions,
-        counts,
-        shape,
-        widths,
-        colors,
-        opacity,
-        strand_uv,
-        skip: None,
-        world,
-    })
-}
-
-fn counts_or_empty(prim: &Prim, name: &str, path: &str) -> Result<Vec<u32>, HairError> {
-    match value(prim, name)? {
-        Some(_) => counts(prim, name, path),
-        None => Ok(Vec::new()),
-    }
-}
-
-/// A `Mesh` prim fan-triangulated in world space (normals from the faces).
-fn mesh(prim: &Prim, path: &str, world: DMat4) -> Result<TriMesh, HairError> {
-    let positions = match value(prim, "points")? {
-        Some(v) => vec3s(v, &format!("{path}.points"))?,
-        None => return Err(err(format!("{path} has no points"))),
-    };
-    let face_counts = counts(prim, "faceVertexCounts", path)?;
-    let indices = counts(prim, "faceVertexIndices", path)?;
-    let left = token(prim, "orientation")?.as_deref() == Some("leftHanded");
-    let flip = left != (world.determinant() < 0.0);
-    let total: u64 = face_counts.iter().map(|&c| u64::from(c)).sum();
-    if total != indices.len() as u64 {
-        return Err(err(format!(
-            "{path}: faceVertexCounts add up to {total} but there are {} indices",
-            indices.len()
-        )));
-    }
-    if let Some(&bad) = indices.iter().find(|&&i| i as usize >= positions.len()) {
-        return Err(err(format!(
-            "{path}: face index {bad} is past its {} points",
-            positions.len()
-        )));
-    }
-    let mut tris = Vec::with_capacity(indices.len() * 3);
-    let mut at = 0usize;
-    for &c in &face_counts {
-        let face = &indices[at..at + c as usize];
-        at += c as usize;
-        for k in 2..face.len() {
-            if flip {
-                tris.extend_from_slice(&[face[0], face[k], face[k - 1]]);
-            } else {
-                tris.extend_from_slice(&[face[0], face[k - 1], face[k]]);
-            }
-        }
-    }
-    let m = world.as_mat4();
-    let positions: Vec<Vec3> = positions
-        .into_iter()
-        .map(|p| m.transform_point3(p))
-        .collect();
-    if positions.iter().any(|p| !p.is_finite()) {
-        return Err(err(format!("{path}: a point is not finite")));
-    }
-    let normals = crate::patches::obj::face_normals(&positions, &tris);
-    Ok(TriMesh {
-        positions,
-        normals,
-        indices: tris,
-    })
 }
 
 fn merge_meshes(meshes: Vec<TriMesh>) -> Option<TriMesh> {
