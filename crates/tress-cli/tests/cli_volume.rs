@@ -345,3 +345,66 @@ fn the_volume_looks_like_the_strands_on_fur() {
     );
     assert!(now < 0.36, "{now}");
 }
+
+/// Mean absolute difference of two same-sized images, in 8-bit levels per channel.
+fn mean_difference(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
+    let sum: u64 = a
+        .as_raw()
+        .iter()
+        .zip(b.as_raw())
+        .map(|(x, y)| u64::from(x.abs_diff(*y)))
+        .sum();
+    sum as f64 / a.as_raw().len() as f64
+}
+
+#[test]
+fn the_hybrid_transition_moves_from_strands_to_volume_without_a_jump() {
+    if skip_gpu() {
+        return;
+    }
+    let hair = asset();
+    let render = |name: &str, technique: &str, lod: Option<&str>| {
+        let png = tmp(name);
+        let lod = lod.map(|l| format!("hybrid.lod={l}"));
+        let mut args = vec![
+            "render",
+            hair.to_str().unwrap(),
+            "-o",
+            png.to_str().unwrap(),
+            "--technique",
+            technique,
+        ];
+        args.extend(SIZE);
+        args.extend(SMALL);
+        if let Some(l) = &lod {
+            args.extend(["--set", l.as_str()]);
+        }
+        assert_gpu_success(&tress(&args));
+        image(&png)
+    };
+    let strands = render("t-strands.png", "strands", None);
+    let volume = render("t-volume.png", "volume", None);
+    let lods = ["0", "0.25", "0.5", "0.75", "1"];
+    let frames: Vec<_> = lods
+        .iter()
+        .map(|l| render(&format!("t-hybrid-{l}.png"), "hybrid", Some(l)))
+        .collect();
+    // The ends are the two renderers' own frames.
+    assert_eq!(mean_difference(&frames[0], &strands), 0.0);
+    assert_eq!(mean_difference(&frames[4], &volume), 0.0);
+    // Every quarter of the factor moves the image part of the way, none more than half of it
+    // (measured on lavapipe: 18%, 21%, 25%, 36% of the strands-to-volume difference), and the
+    // steps add up to the whole way: the blend is monotonic, with no pop at either end.
+    let whole = mean_difference(&strands, &volume);
+    assert!(whole > 1.0, "strands and volume differ: {whole}");
+    let steps: Vec<f64> = frames
+        .windows(2)
+        .map(|w| mean_difference(&w[0], &w[1]) / whole)
+        .collect();
+    assert!(
+        steps.iter().all(|s| *s > 0.05 && *s < 0.5),
+        "steps as shares of the whole difference: {steps:?}"
+    );
+    let total: f64 = steps.iter().sum();
+    assert!((total - 1.0).abs() < 0.1, "{steps:?}");
+}
