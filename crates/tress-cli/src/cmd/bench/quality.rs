@@ -246,6 +246,7 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>, select: &Select<'_>)
 
             let mut mask = Vec::new();
             let mut coverage = 0.0;
+            let mut without_hair = None;
             for t in TECHNIQUES {
                 let listed = techniques.contains(&t);
                 if !listed && t != "strands" {
@@ -263,6 +264,7 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>, select: &Select<'_>)
                         let bare = bare?;
                         mask = hair_mask(&img, &bare);
                         coverage = coverage_pct(&img, &bare);
+                        without_hair = Some(bare);
                     }
                     score(
                         &reference,
@@ -287,6 +289,28 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>, select: &Select<'_>)
                         silhouette: outline,
                     });
                 }
+            }
+
+            // The baseline: the frame without its hair (head and background only), scored like a
+            // technique over the hair's pixels. A technique that draws hair at all should beat it
+            // clearly; a blank or wrong-coloured one does not.
+            if let Some(bare) = without_hair.take() {
+                rows.push(Row {
+                    scene: name.clone(),
+                    distance: d,
+                    coverage_pct: coverage,
+                    technique: "none",
+                    aov: "color",
+                    result: score(
+                        &reference,
+                        &linear_to_trace(&bare),
+                        &mask,
+                        &run.dir,
+                        &format!("{tag}-none"),
+                    )
+                    .map_err(|e| format!("{e:#}")),
+                    silhouette: None,
+                });
             }
 
             // The noise floor: the reference traced again with another seed, scored like a
@@ -502,7 +526,9 @@ fn markdown(rows: &[Row], adapter: &str, size: [u32; 2], spp: u32) -> String {
          FLIP is the mean FLIP error over the frame (0 identical, lower is better), FLIP on \
          hair its mean over the pixels the hair covers (which the background does not dilute); \
          the `reference` row is the reference traced again with another seed: its noise, \
-         a floor no technique can beat at this sample count; the AO row compares the \
+         a floor no technique can beat at this sample count; the `none` row is the frame \
+         without its hair (head and background), the baseline every technique must beat on \
+         the hair; the AO row compares the \
          volume's ambient occlusion alone with the traced AO over the hair (see \
          `crates/tress-cli/src/cmd/bench/quality.rs`); hair IoU compares the technique's hair \
          silhouette with the reference's and stray % is the share of it outside the strand \
