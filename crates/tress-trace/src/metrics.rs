@@ -60,6 +60,18 @@ pub struct Comparison {
 }
 
 impl Comparison {
+    /// Mean FLIP over the pixels `mask` marks (a mask of the map's size, rows top to bottom; 0
+    /// when it marks none): the error over the hair, which the background does not dilute.
+    pub fn masked_flip(&self, mask: &[bool]) -> f64 {
+        let (sum, n) = self
+            .flip_map
+            .iter()
+            .zip(mask)
+            .filter(|(_, m)| **m)
+            .fold((0.0, 0u64), |(s, n), (e, _)| (s + f64::from(*e), n + 1));
+        if n == 0 { 0.0 } else { sum / n as f64 }
+    }
+
     /// FLIP's error map colored with its magma look-up table, as 8-bit RGB.
     pub fn heatmap_rgb8(&self) -> Vec<u8> {
         let map = nv_flip::FlipImageFloat::with_data(self.width, self.height, &self.flip_map);
@@ -217,6 +229,23 @@ mod tests {
             height: h,
             pixels,
         }
+    }
+
+    #[test]
+    fn masked_flip_is_the_mean_over_the_marked_pixels() {
+        let c = Comparison {
+            scores: Scores {
+                flip: 0.25,
+                rmse: 0.0,
+                ssim: 1.0,
+            },
+            width: 2,
+            height: 2,
+            flip_map: vec![0.1, 0.2, 0.3, 0.4],
+        };
+        assert!((c.masked_flip(&[true, false, true, false]) - 0.2).abs() < 1e-6);
+        assert!((c.masked_flip(&[true; 4]) - 0.25).abs() < 1e-6);
+        assert_eq!(c.masked_flip(&[false; 4]), 0.0);
     }
 
     #[test]

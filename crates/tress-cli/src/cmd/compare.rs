@@ -306,17 +306,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
             })
             .collect();
         let n = covered.iter().filter(|c| **c).count();
-        let flip_hair = if n == 0 {
-            0.0
-        } else {
-            covered
-                .iter()
-                .zip(&cmp.flip_map)
-                .filter(|(c, _)| **c)
-                .map(|(_, e)| f64::from(*e))
-                .sum::<f64>()
-                / n as f64
-        };
+        let flip_hair = cmp.masked_flip(&covered);
         rows.push(Row {
             distance: (s.camera.eye - target).length(),
             coverage_pct: 100.0 * n as f64 / covered.len() as f64,

@@ -18,14 +18,7 @@ pub(crate) struct Frame {
 /// Mean FLIP between `a` and `b` over the pixels `mask` marks (0 with none marked).
 pub(crate) fn masked_flip(a: &LinearImage, b: &LinearImage, mask: &[bool]) -> anyhow::Result<f64> {
     let display = |i: &LinearImage| DisplayImage::from_linear(&linear_to_trace(i));
-    let cmp = metrics::compare(&display(a), &display(b))?;
-    let (sum, n) = cmp
-        .flip_map
-        .iter()
-        .zip(mask)
-        .filter(|(_, m)| **m)
-        .fold((0.0, 0usize), |(s, n), (e, _)| (s + f64::from(*e), n + 1));
-    Ok(if n == 0 { 0.0 } else { sum / n as f64 })
+    Ok(metrics::compare(&display(a), &display(b))?.masked_flip(mask))
 }
 
 /// Set the `flip` of every row but the strands' to its FLIP against the strands row at the same

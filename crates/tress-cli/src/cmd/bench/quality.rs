@@ -132,20 +132,10 @@ fn score(reference: &Image, test: &Image, mask: &[bool], dir: &Path, stem: &str)
         .unwrap_or_default();
     Ok(Score {
         scores: cmp.scores,
-        flip_hair: masked_mean(&cmp.flip_map, mask),
+        flip_hair: cmp.masked_flip(mask),
         image,
         heat,
     })
-}
-
-/// The mean of `values` where `mask` is set (0 when it never is).
-fn masked_mean(values: &[f32], mask: &[bool]) -> f64 {
-    let (sum, n) = values
-        .iter()
-        .zip(mask)
-        .filter(|(_, m)| **m)
-        .fold((0.0, 0u64), |(s, n), (v, _)| (s + f64::from(*v), n + 1));
-    if n == 0 { 0.0 } else { sum / n as f64 }
 }
 
 /// The scenes of the report: the inputs' one, or the examples.
