@@ -3,26 +3,15 @@
 
 mod common;
 
-use common::{assert_gpu_success, skip_gpu, tmp, tress};
+use common::{assert_gpu_success, skip_gpu, straight_hair, tmp, tress};
 
 #[test]
 fn render_hair_file_writes_png_and_one_json_object() {
     if skip_gpu() {
         return;
     }
-    let hair = tmp("tiny.hair");
+    let hair = straight_hair("tiny.hair", 200);
     let png = tmp("tiny.png");
-    let gen_out = tress(&[
-        "generate",
-        "straight",
-        "-o",
-        hair.to_str().unwrap(),
-        "--strands",
-        "200",
-        "--vertices",
-        "8",
-    ]);
-    assert!(gen_out.status.success());
     let out = tress(&[
         "render",
         hair.to_str().unwrap(),
@@ -92,18 +81,7 @@ fn exact_oit_renders_what_sorting_every_fragment_draws() {
     if skip_gpu() {
         return;
     }
-    let hair = tmp("exact.hair");
-    let gen_out = tress(&[
-        "generate",
-        "straight",
-        "-o",
-        hair.to_str().unwrap(),
-        "--strands",
-        "300",
-        "--vertices",
-        "8",
-    ]);
-    assert!(gen_out.status.success());
+    let hair = straight_hair("exact.hair", 300);
     let render = |name: &str, extra: &[&str]| {
         let png = tmp(name);
         let mut args = vec![

@@ -6,29 +6,15 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{assert_gpu_success, skip_gpu, tmp, tress};
+use common::{assert_gpu_success, skip_gpu, straight_hair, tmp, tress};
 
 /// A small straight-hair asset, generated once per test binary run.
 fn asset() -> PathBuf {
     let hair = tmp("tiny.hair");
-    if !hair.exists() {
-        let out = tress(&[
-            "generate",
-            "straight",
-            "-o",
-            hair.to_str().unwrap(),
-            "--strands",
-            "300",
-            "--vertices",
-            "8",
-        ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+    if hair.exists() {
+        return hair;
     }
-    hair
+    straight_hair("tiny.hair", 300)
 }
 
 const SIZE: [&str; 4] = ["--width", "96", "--height", "64"];

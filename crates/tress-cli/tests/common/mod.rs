@@ -44,3 +44,26 @@ pub fn assert_gpu_success(out: &Output) {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// Generate a straight-hair asset of `strands` strands of 8 vertices into the scratch file
+/// `name` (`tress generate straight`), asserting that it worked, and return its path.
+pub fn straight_hair(name: &str, strands: u32) -> PathBuf {
+    let hair = tmp(name);
+    let strands = strands.to_string();
+    let out = tress(&[
+        "generate",
+        "straight",
+        "-o",
+        hair.to_str().unwrap(),
+        "--strands",
+        &strands,
+        "--vertices",
+        "8",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    hair
+}

@@ -225,6 +225,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
         // A fresh session per sweep: the sweep's overrides never leak into the next one.
         let mut session = run.session()?;
         for (i, p) in sw.points.iter().enumerate() {
+            let point_start = rows.len();
             for series in &sw.series {
                 let t = series.name;
                 let pb = progress::spinner(format!(
@@ -282,6 +283,15 @@ pub(crate) fn run(args: Args) -> Result<()> {
                 // Only the `oit` and `distance` sweeps score frames against a reference frame.
                 frames_kept.push(image.filter(|_| matches!(sw.name, "oit" | "distance")));
             }
+            if sw.name == "distance" {
+                // Scored against the strands at this distance, then the frames are dropped: a
+                // full sweep would otherwise hold every frame of every point at once.
+                agreement::score_against_strands(
+                    &mut rows[point_start..],
+                    &frames_kept[point_start..],
+                );
+                frames_kept[point_start..].fill_with(|| None);
+            }
         }
         if sw.name == "oit" {
             let images: Vec<_> = frames_kept
@@ -289,8 +299,6 @@ pub(crate) fn run(args: Args) -> Result<()> {
                 .map(|f| f.map(|f| f.image))
                 .collect();
             score_against_reference(&mut rows, &images, exact.as_ref());
-        } else if sw.name == "distance" {
-            agreement::score_against_strands(&mut rows, &frames_kept);
         }
         report::write(
             &run.dir,
