@@ -331,3 +331,47 @@ fn bad_bench_arguments_are_one_line_errors() {
         assert!(err.contains(needle), "{all:?}: {err}");
     }
 }
+
+/// The `distance` sweep scores every technique against the strands at the same distance, over
+/// the hair: none for the strands themselves, 0 for the hybrid where it draws the strands alone
+/// (the demo's own distance, nearer than the blend's start), a real difference for the volume.
+#[test]
+fn distance_sweep_scores_every_technique_against_the_strands() {
+    if skip_gpu() {
+        eprintln!("skipped on purpose: TRESS_SKIP_GPU_TESTS=1");
+        return;
+    }
+    let dir = tmp("bench-distance");
+    let out = tress(&[
+        "bench",
+        "--quick",
+        "--sweep",
+        "distance",
+        "--width",
+        "128",
+        "--height",
+        "72",
+        "-o",
+        dir.to_str().unwrap(),
+    ]);
+    assert_gpu_success(&out);
+    let rows = csv_rows(&dir.join("distance.csv"));
+    assert_eq!(rows.len(), 10, "{rows:?}");
+    let flip_col = 19;
+    for r in &rows {
+        assert_eq!(r.last().unwrap(), "", "error in {r:?}");
+        if r[1] == "strands" {
+            assert_eq!(r[flip_col], "", "{r:?}");
+        } else {
+            let f: f64 = r[flip_col].parse().unwrap();
+            assert!((0.0..1.0).contains(&f), "{r:?}");
+        }
+    }
+    let flip = |t: &str, x: &str| -> f64 {
+        rows.iter().find(|r| r[1] == t && r[2] == x).unwrap()[flip_col]
+            .parse()
+            .unwrap()
+    };
+    assert_eq!(flip("hybrid", "1"), 0.0);
+    assert!(flip("volume", "1") > 0.05);
+}
