@@ -117,7 +117,10 @@ pub use shadow::{
     DepthMap, MAX_PCF_RADIUS, ShadingError, adsm_depth, adsm_pcf, adsm_visibility,
     strand_visibility,
 };
-pub use shortcut::{resolve_shortcut, shortcut_accumulator};
+pub use shortcut::{
+    SHORTCUT_MAX_FALLOFF, SHORTCUT_TAIL_PICK, SHORTCUT_TAIL_SPACINGS, resolve_shortcut, shortcut_accumulator,
+    shortcut_tail_falloff, shortcut_tail_weight,
+};
 pub use volume::{
     DensityVolume, NO_CAP, VolumeSizeError, ao_offset, density_gradient, density_normal,
     dither_threshold, fake_transparency_alpha, lod_factor, ray_box, volume_ao,

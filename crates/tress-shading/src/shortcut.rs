@@ -1,13 +1,26 @@
 //! The ShortCut composite (the strand rasterizer's bounded-memory OIT, after TressFX 4.1's
 //! "ShortCut"): the CPU reference of `strands/shortcut_{depth,shade,resolve}.wgsl` for one pixel.
 //!
-//! The depth pass finds the pixel's `k` nearest fragments, the shade pass shades only those
-//! and multiplies every other fragment's `1 - alpha` into a transmittance `T`, and the resolve
-//! blends the `k` front to back (as the PPLL's sorted front, [`composite_sorted`]) with the tail
-//! under them: opacity `1 - T`, exact and independent of order, and as color the color of the
-//! farthest of the `k` (the tail is never shaded; the fragment nearest to it in depth, hence in
-//! self-shadowing, stands in for it). The difference from the PPLL's [`resolve_k_buffer`] is
-//! then only the tail's color, weighted by how much light reaches the tail at all.
+//! The depth pass finds the pixel's `k` nearest fragments, the shade pass shades those into
+//! their layers and multiplies every other fragment's `1 - alpha` into a transmittance `T`, and
+//! the resolve blends the `k` front to back (as the PPLL's sorted front, [`composite_sorted`])
+//! with the tail under them: opacity `1 - T`, exact and independent of order, and as color a
+//! weighted mean of the tail's colors. Only the tail's first fragments show through it, so each
+//! is weighted by `alpha · exp(-(z - z_k) / (SHORTCUT_TAIL_SPACINGS · g))`, `z_k` the k-th depth
+//! and `g` the mean depth spacing of the k layers: the tail taken as a few of the front's layer
+//! spacings deep per unit of optical depth. Shading every tail fragment would make the shade
+//! pass slower than the PPLL's, so a hash roulette picks a fragment with probability `p =
+//! min(1, SHORTCUT_TAIL_PICK · factor)` and weighs it `1 / p` more ([`shortcut_tail_weight`]):
+//! the same mean in expectation from a few fragments a pixel. Where no tail fragment is
+//! weighted (k = 1, the k at one depth) the tail takes the color of the farthest of the `k`.
+//!
+//! Measured against exact sorting (the fragments of a PPLL frame that held every one, sorted on
+//! the CPU), mean FLIP over the frame at k = 8, bear fur 320x180 (885 tail fragments a pixel on
+//! average): the farthest layer's color 0.0101, the plain α-weighted mean of the tail 0.044 (the
+//! deep, self-shadowed fur is invisible), these weights 0.0046; at 1280x720 0.0147 and 0.0082;
+//! on the ponytail (320x180) 0.0024 and 0.0027. Fewer spacings (4) suit the ponytail a little
+//! better and the bear worse (0.0056 at 320x180, 0.0091 at 1280x720).
+//! The difference from the PPLL's [`resolve_k_buffer`] is only the tail's color.
 //!
 //! [`resolve_k_buffer`]: crate::resolve_k_buffer
 
@@ -15,6 +28,58 @@ use glam::{Vec3, Vec4};
 
 use crate::blend::{StrandFragment, blend_under, composite_over_background, composite_sorted};
 use crate::saturate;
+
+/// Mean layer spacings of the tail per unit of optical depth (`TAIL_SPACINGS` in
+/// `common/shortcut_keys.wgsl`).
+pub const SHORTCUT_TAIL_SPACINGS: f32 = 5.0;
+/// A tail fragment is shaded with probability `min(1, SHORTCUT_TAIL_PICK · factor)`
+/// (`TAIL_PICK`).
+pub const SHORTCUT_TAIL_PICK: f32 = 1.0;
+/// The largest tail falloff (`MAX_FALLOFF`): the GPU keeps it as a half float.
+pub const SHORTCUT_MAX_FALLOFF: f32 = 60_000.0;
+
+/// `hash_u32` of `common/strand_shading.wgsl` (a PCG-style output permutation).
+fn hash_u32(x: u32) -> u32 {
+    let h = x.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+    let h = ((h >> ((h >> 28) + 4)) ^ h).wrapping_mul(277_803_737);
+    (h >> 22) ^ h
+}
+
+/// The weight a tail fragment adds to the tail's mean color (0: not picked), `z_k` the k-th
+/// depth and `falloff` from [`shortcut_tail_falloff`]: `alpha · factor / p` when the hash of its
+/// depth and alpha falls below `p = min(1, SHORTCUT_TAIL_PICK · factor)`, `factor = exp(-(z -
+/// z_k) · falloff)`. In expectation over the hash, `alpha · factor`. The shade pass's
+/// `tail_fragment`.
+pub fn shortcut_tail_weight(fragment: &StrandFragment, z_k: f32, falloff: f32) -> f32 {
+    let z = saturate(fragment.depth);
+    let alpha = saturate(fragment.alpha);
+    let factor = (-(z - z_k).max(0.0) * falloff).exp();
+    let pick = (SHORTCUT_TAIL_PICK * factor).min(1.0);
+    let u = (hash_u32(z.to_bits() ^ hash_u32(alpha.to_bits())) >> 8) as f32 / 16_777_216.0;
+    if falloff > 0.0 && u < pick {
+        alpha * factor / pick
+    } else {
+        0.0
+    }
+}
+
+/// The tail's depth falloff `1 / (SHORTCUT_TAIL_SPACINGS · g)` from the sorted `front` layers
+/// (`g` their mean depth spacing, depths clamped to `[0, 1]` as the layer keys hold them), or 0
+/// when it is unknown (one layer, or every layer at one depth).
+pub fn shortcut_tail_falloff(front: &[StrandFragment]) -> f32 {
+    let (Some(near), Some(far)) = (front.first(), front.last()) else {
+        return 0.0;
+    };
+    if front.len() < 2 {
+        return 0.0;
+    }
+    let spacing = (saturate(far.depth) - saturate(near.depth)) / (front.len() - 1) as f32;
+    if spacing > 0.0 {
+        (1.0 / (SHORTCUT_TAIL_SPACINGS * spacing)).min(SHORTCUT_MAX_FALLOFF)
+    } else {
+        0.0
+    }
+}
 
 /// The ShortCut resolve of one pixel's fragments (any order) with `k` sorted layers, over
 /// `background`. Ties in depth keep their input order. With `k >= fragments.len()` this is
@@ -28,9 +93,22 @@ pub fn resolve_shortcut(fragments: &[StrandFragment], k: usize, background: Vec3
     };
     let transmittance: f32 = tail.iter().map(|f| 1.0 - saturate(f.alpha)).product();
     let tail_alpha = 1.0 - transmittance;
+    let falloff = shortcut_tail_falloff(front);
+    let z_k = saturate(farthest.depth);
+    let (mut weighted, mut weights) = (Vec3::ZERO, 0.0f32);
+    for f in tail {
+        let w = shortcut_tail_weight(f, z_k, falloff);
+        weighted += w * f.color;
+        weights += w;
+    }
+    let color = if weights > 0.0 {
+        weighted / weights
+    } else {
+        farthest.color
+    };
     let acc = blend_under(
         composite_sorted(front),
-        (farthest.color * tail_alpha).extend(tail_alpha),
+        (color * tail_alpha).extend(tail_alpha),
     );
     composite_over_background(acc, background)
 }
@@ -93,15 +171,93 @@ mod tests {
     }
 
     #[test]
-    fn the_tail_takes_the_farthest_stored_color() {
+    fn without_a_falloff_the_tail_takes_the_farthest_stored_color() {
         let bg = Vec3::ZERO;
-        let near = frag([1.0, 0.0, 0.0], 0.5, 1.0);
-        let far = frag([0.0, 1.0, 0.0], 0.5, 2.0);
-        let tail = frag([0.0, 0.0, 1.0], 0.5, 3.0);
-        let c = resolve_shortcut(&[tail, far, near], 2, bg);
-        // near over far over (far's color at the tail's opacity).
-        let want = Vec3::new(0.5, 0.25 + 0.25 * 0.5, 0.0);
+        let near = frag([1.0, 0.0, 0.0], 0.5, 0.1);
+        let far = frag([0.0, 1.0, 0.0], 0.5, 0.2);
+        let tail = frag([0.0, 0.0, 1.0], 0.5, 0.3);
+        // k = 1: no spacing to take a falloff from.
+        let c = resolve_shortcut(&[tail, far, near], 1, bg);
+        // near, then the tail (far and tail: opacity 0.75) in the color of near.
+        let want = Vec3::new(0.5 + 0.5 * 0.75, 0.0, 0.0);
         assert!(close(c, want, 1e-6), "{c}");
+        // Both layers at one depth: no spacing either.
+        let twin = frag([0.0, 1.0, 0.0], 0.5, 0.1);
+        let c = resolve_shortcut(&[tail, twin, near], 2, bg);
+        // Ties keep their order: twin, then near, then the tail in near's color.
+        let want = Vec3::new(0.25 + 0.25 * 0.5, 0.5, 0.0);
+        assert!(close(c, want, 1e-6), "{c}");
+    }
+
+    #[test]
+    fn the_tail_is_the_mean_of_its_fragments_weighted_by_alpha_and_falloff() {
+        // Layers at 0.1 and 0.12: spacing 0.02, falloff 1 / (5 · 0.02) = 10 per unit depth.
+        let near = frag([0.2, 0.2, 0.2], 0.5, 0.1);
+        let far = frag([0.2, 0.2, 0.2], 0.5, 0.12);
+        assert!((shortcut_tail_falloff(&[near, far]) - 10.0).abs() < 1e-3);
+        let a = frag([1.0, 0.0, 0.0], 0.4, 0.12); // a tie with the k-th: factor 1
+        let b = frag([0.0, 1.0, 0.0], 0.2, 0.2);
+        // exp(-0.78 · 10): picked with probability 0.001, and this one's hash does not.
+        let gone = frag([0.0, 0.0, 1.0], 0.9, 0.9);
+        assert_eq!(shortcut_tail_weight(&gone, 0.12, 10.0), 0.0);
+        // Factor 1: picked for sure, weighed alpha. Factor 0.45: picked with p = 0.45, then
+        // weighed alpha · factor / p = alpha.
+        let wa = shortcut_tail_weight(&a, 0.12, 10.0);
+        let wb = shortcut_tail_weight(&b, 0.12, 10.0);
+        assert_eq!(wa, 0.4);
+        assert!(wb == 0.0 || (wb - 0.2).abs() < 1e-6, "{wb}");
+        let tail = (Vec3::new(wa, wb, 0.0)) / (wa + wb);
+        let tail_alpha = 1.0 - 0.6 * 0.8 * 0.1;
+        let front = composite_sorted(&[near, far]);
+        let want = blend_under(front, (tail * tail_alpha).extend(tail_alpha)).truncate();
+        let got = resolve_shortcut(&[gone, b, far, a, near], 2, Vec3::ZERO);
+        assert!(close(got, want, 1e-5), "{got} vs {want}");
+    }
+
+    #[test]
+    fn the_roulette_gives_the_weighted_sum_in_expectation() {
+        // 20,000 tail fragments 0..0.2 behind the k-th at falloff 10: factors 1..0.14, picked
+        // with p = 1 down to 0.34.
+        let (mut got, mut want, mut picked) = (0.0f64, 0.0f64, 0);
+        for i in 0..20_000 {
+            let f = frag([0.5; 3], 0.2 + 0.1 * (i % 7) as f32 / 7.0, 0.5 + 1e-5 * i as f32);
+            let w = shortcut_tail_weight(&f, 0.5, 10.0);
+            got += f64::from(w);
+            want += f64::from(f.alpha * (-(f.depth - 0.5) * 10.0).exp());
+            picked += usize::from(w > 0.0);
+        }
+        assert!((got / want - 1.0).abs() < 0.02, "{got} vs {want}");
+        assert!((8_000..16_000).contains(&picked), "{picked}");
+        // No falloff: nothing is weighted; a fragment in front of the k-th counts as at it.
+        assert_eq!(shortcut_tail_weight(&frag([0.5; 3], 0.3, 0.6), 0.5, 0.0), 0.0);
+        assert_eq!(shortcut_tail_weight(&frag([0.5; 3], 0.3, 0.4), 0.5, 10.0), 0.3);
+    }
+
+    #[test]
+    fn a_deep_dark_tail_behind_a_bright_front_shows_the_bright_fur_just_behind() {
+        // Evenly spaced fur, bright in front and right behind it, then a long, dark,
+        // self-shadowed depth: the exact composite is nearly the bright fur's; the tail's
+        // plain mean would be nearly the dark's. The falloff keeps the tail near the exact.
+        let f: Vec<StrandFragment> = (0..200)
+            .map(|i| {
+                let c = if i < 8 { [0.8, 0.7, 0.6] } else { [0.05, 0.04, 0.03] };
+                frag(c, 0.3, 0.1 + 0.004 * i as f32)
+            })
+            .collect();
+        let exact = resolve_k_buffer(&f, f.len(), Vec3::ZERO);
+        let got = resolve_shortcut(&f, 4, Vec3::ZERO);
+        let mut plain = f.clone();
+        plain.sort_by(|a, b| a.depth.total_cmp(&b.depth));
+        let tail = &plain[4..];
+        let mean = tail.iter().map(|f| f.color * f.alpha).sum::<Vec3>()
+            / tail.iter().map(|f| f.alpha).sum::<f32>();
+        let t: f32 = tail.iter().map(|f| 1.0 - f.alpha).product();
+        let front = composite_sorted(&plain[..4]);
+        let mean_composite = blend_under(front, (mean * (1.0 - t)).extend(1.0 - t)).truncate();
+        let err = (got - exact).abs().max_element();
+        assert!(err < 0.05, "{got} vs exact {exact}");
+        let mean_err = (mean_composite - exact).abs().max_element();
+        assert!(err < 0.35 * mean_err, "{err} vs the plain mean's {mean_err}");
     }
 
     #[test]

@@ -41,6 +41,10 @@ pub const SOURCES: &[(&str, &str)] = &[
     ),
     ("common/shortcut.wgsl", include_str!("common/shortcut.wgsl")),
     (
+        "common/shortcut_keys.wgsl",
+        include_str!("common/shortcut_keys.wgsl"),
+    ),
+    (
         "common/strand_fragment.wgsl",
         include_str!("common/strand_fragment.wgsl"),
     ),

@@ -240,7 +240,7 @@ impl Default for StrandSettings {
             k: 16,
             ppll_nodes_per_pixel: 8.0,
             ppll_max_bytes: 512 << 20,
-            shortcut_k: 8,
+            shortcut_k: 7,
             shadows: true,
             shadow_map_size: 1024,
             shadow_r: 4.0,

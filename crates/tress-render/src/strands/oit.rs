@@ -13,14 +13,15 @@
 //! - **ShortCut** (after TressFX 4.1's "ShortCut" OIT): a depth-only pass keeps each pixel's `k`
 //!   nearest fragment depths (an `atomicMax` chain over `k` sorted key layers; a fragment
 //!   farther than a full set of `k` stops after one load), a threshold pass copies each pixel's
-//!   k-th key, a shade pass shades just the `k` nearest fragments into their layers and
-//!   multiplies every other fragment's opacity into a transmittance target (a fragment beyond
-//!   the threshold costs one load), and a resolve blends the `k` layers front to back with the
-//!   tail under them. Its memory is fixed by the screen and `k` (61.5 MiB at 1280x720, k = 8),
-//!   it never drops a fragment, and it shades at most `k` fragments a pixel. The tail's
-//!   opacity is exact; its color is not shaded and the farthest of the `k` stands in for it
-//!   (TressFX uses the mean of the `k`; the farthest is nearer in depth, hence in
-//!   self-shadowing, to what lies behind it). CPU twin: `tress_shading::resolve_shortcut`.
+//!   k-th key and the tail's depth falloff (from the `k` layers' mean spacing), a shade pass
+//!   shades the `k` nearest fragments into their layers, multiplies every other fragment's
+//!   opacity into a transmittance target and, for the tail fragments a hash roulette picks
+//!   (likelier near the k-th depth), adds their shaded color weighted by the falloff into a
+//!   tail color target, and a resolve blends the `k` layers front to back with the tail under
+//!   them. Its memory is fixed by the screen and `k` (61.5 MiB at 1280x720 with the default
+//!   k = 7, 68.5 MiB at k = 8) and it never drops a fragment. The tail's opacity is exact; its
+//!   color is the falloff-weighted mean of the picked fragments, or the farthest of the `k`
+//!   where none was picked. CPU twin: `tress_shading::resolve_shortcut`.
 //! - **Auto**: PPLL while a grown pool holds the frame, ShortCut once a frame asks for more
 //!   nodes than the cap allows, and back to the PPLL when a ShortCut frame's fragment count
 //!   (its depth pass counts them) fits the cap with the growth margin. An offline frame

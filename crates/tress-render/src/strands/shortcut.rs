@@ -1,7 +1,9 @@
 //! The ShortCut buffers (`common/shortcut.wgsl`): `k` layers of depth keys and colors per pixel,
-//! the k-th key per pixel, the fragment counter and the tail's transmittance target. Their size
-//! is fixed by the target and `k`, never by the hair: at 1280x720 and k = 8, 56.25 MiB of layers,
-//! 3.5 MiB of k-th keys and 1.76 MiB of transmittance (61.5 MiB).
+//! the k-th key and the tail's depth falloff per pixel, the fragment counter, the tail's
+//! transmittance target and its weighted color target. Their size is fixed by the target and
+//! `k`, never by the hair: at 1280x720 and k = 7 (the default), 49.2 MiB of layers, 3.5 MiB of
+//! k-th keys, 1.76 MiB of falloffs, 1.76 MiB of transmittance and 7.0 MiB of tail color
+//! (63.3 MiB).
 
 use crate::bind::{depth_texture, storage, texture_2d};
 use crate::gpu::types::PpllCounters;
@@ -12,19 +14,31 @@ pub const MAX_SHORTCUT_K: u32 = 16;
 
 /// Format of the tail's transmittance target (multiplied into with `dst * (1 - src)`).
 pub(crate) const TRANSMITTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
+/// Format of the tail's weighted color target (`Σ w · color`, `Σ w`, added into).
+pub(crate) const TAIL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// Binding of the head's depth (depth and shade passes) in `common/shortcut.wgsl`'s group.
 pub(crate) const HEAD_DEPTH: u32 = 3;
 /// Binding of the transmittance texture (resolve pass).
 pub(crate) const TRANSMITTANCE: u32 = 4;
-/// Binding of the per-pixel k-th key (shade pass).
+/// Binding of the per-pixel k-th key and tail falloff (shade pass).
 pub(crate) const FAR: u32 = 5;
+/// Binding of the tail's weighted color (resolve pass).
+pub(crate) const TAIL: u32 = 6;
+/// Binding of the per-pixel tail falloffs, two half floats a word (shade pass).
+pub(crate) const FALLOFF: u32 = 7;
 
 /// Bytes ShortCut needs for a target of `size` with `k` layers: 8 bytes a layer a pixel (key,
-/// color), 4 bytes of k-th key and 2 bytes of transmittance a pixel (plus 16 bytes of counters).
+/// color), 4 bytes of k-th key, 2 of tail falloff, 2 of transmittance and 8 of tail color a
+/// pixel (plus 16 bytes of counters).
 pub fn shortcut_bytes(size: [u32; 2], k: u32) -> u64 {
     let pixels = u64::from(size[0]) * u64::from(size[1]);
-    pixels * u64::from(k) * 8 + pixels * 6 + 16
+    pixels * u64::from(k) * 8 + pixels * 12 + falloff_bytes(size) + 16
+}
+
+/// Bytes of the falloffs: one word a pair of pixels.
+fn falloff_bytes(size: [u32; 2]) -> u64 {
+    (u64::from(size[0]) * u64::from(size[1])).div_ceil(2) * 4
 }
 
 /// The layout of the depth and shade passes' group 3: keys, colors, counters, head depth, k-th
@@ -37,16 +51,18 @@ pub(crate) fn raster_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
         storage(2, fragment, false),
         depth_texture(HEAD_DEPTH, fragment),
         storage(FAR, fragment, true),
+        storage(FALLOFF, fragment, true),
     ]
 }
 
-/// The layout of the resolve pass's group 3: keys, colors, transmittance.
+/// The layout of the resolve pass's group 3: keys, colors, transmittance, tail color.
 pub(crate) fn resolve_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
     let fragment = wgpu::ShaderStages::FRAGMENT;
     vec![
         storage(0, fragment, false),
         storage(1, fragment, false),
         texture_2d(TRANSMITTANCE, fragment),
+        texture_2d(TAIL, fragment),
     ]
 }
 
@@ -58,7 +74,11 @@ pub(crate) struct ShortcutBuffers {
     pub(crate) counters: wgpu::Buffer,
     /// Per pixel: the key of its k-th nearest fragment (`shortcut_threshold.wgsl`).
     pub(crate) far: wgpu::Buffer,
+    /// Per pair of pixels: their tail falloffs as two half floats.
+    pub(crate) falloff: wgpu::Buffer,
     pub(crate) transmittance: wgpu::TextureView,
+    /// The tail's weighted color: `Σ w · color` in rgb, `Σ w` in alpha.
+    pub(crate) tail: wgpu::TextureView,
     pub(crate) size: [u32; 2],
     pub(crate) k: u32,
 }
@@ -88,21 +108,25 @@ impl ShortcutBuffers {
                     mapped_at_creation: false,
                 })
             };
-            let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("strands/shortcut/transmittance"),
-                size: wgpu::Extent3d {
-                    width: size[0],
-                    height: size[1],
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: TRANSMITTANCE_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            });
+            let texture = |label: &str, format| {
+                ctx.device
+                    .create_texture(&wgpu::TextureDescriptor {
+                        label: Some(label),
+                        size: wgpu::Extent3d {
+                            width: size[0],
+                            height: size[1],
+                            depth_or_array_layers: 1,
+                        },
+                        mip_level_count: 1,
+                        sample_count: 1,
+                        dimension: wgpu::TextureDimension::D2,
+                        format,
+                        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                            | wgpu::TextureUsages::TEXTURE_BINDING,
+                        view_formats: &[],
+                    })
+                    .create_view(&Default::default())
+            };
             ShortcutBuffers {
                 keys: buffer("strands/shortcut/keys", layer_bytes, storage),
                 far: buffer(
@@ -110,20 +134,22 @@ impl ShortcutBuffers {
                     u64::from(size[0]) * u64::from(size[1]) * 4,
                     storage,
                 ),
+                falloff: buffer("strands/shortcut/falloff", falloff_bytes(size), storage),
                 colors: buffer("strands/shortcut/colors", layer_bytes, storage),
                 counters: buffer(
                     "strands/shortcut/counters",
                     std::mem::size_of::<PpllCounters>() as u64,
                     storage | wgpu::BufferUsages::COPY_SRC,
                 ),
-                transmittance: texture.create_view(&Default::default()),
+                transmittance: texture("strands/shortcut/transmittance", TRANSMITTANCE_FORMAT),
+                tail: texture("strands/shortcut/tail", TAIL_FORMAT),
                 size,
                 k,
             }
         })
     }
 
-    /// Bytes of the layers, the transmittance target and the counters.
+    /// Bytes of the layers, the per-pixel words, the tail targets and the counters.
     pub(crate) fn bytes(&self) -> u64 {
         shortcut_bytes(self.size, self.k)
     }
@@ -151,6 +177,7 @@ impl ShortcutBuffers {
                 (2, self.counters.as_entire_binding()),
                 (HEAD_DEPTH, wgpu::BindingResource::TextureView(head_depth)),
                 (FAR, self.far.as_entire_binding()),
+                (FALLOFF, self.falloff.as_entire_binding()),
             ],
         )
     }
@@ -172,6 +199,7 @@ impl ShortcutBuffers {
                     TRANSMITTANCE,
                     wgpu::BindingResource::TextureView(&self.transmittance),
                 ),
+                (TAIL, wgpu::BindingResource::TextureView(&self.tail)),
             ],
         )
     }
@@ -184,11 +212,13 @@ mod tests {
     #[test]
     fn memory_is_fixed_by_the_screen_and_k_within_64_mib_at_720p() {
         let mib = |k| shortcut_bytes([1280, 720], k) as f64 / f64::from(1 << 20);
-        assert!(mib(8) <= 64.0, "{}", mib(8));
+        for k in 4..=7 {
+            assert!(mib(k) <= 64.0, "k = {k}: {} MiB", mib(k));
+        }
         assert!(mib(4) < mib(8));
         assert_eq!(
             shortcut_bytes([1280, 720], 8),
-            1280 * 720 * (8 * 8 + 6) + 16
+            1280 * 720 * (8 * 8 + 14) + 16
         );
     }
 }

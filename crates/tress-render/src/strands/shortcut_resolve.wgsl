@@ -1,8 +1,9 @@
 // ShortCut resolve pass (after TressFX 4.1's "ShortCut"): a fullscreen pass that blends each
 // pixel's claimed layers front to back (they are sorted by depth) and puts the tail under them:
-// opacity `1 - T` with T the transmittance the shade pass multiplied up, color that of the
-// farthest of the k (the tail is not shaded; its nearest neighbour in depth stands in for it,
-// see `tress_shading::resolve_shortcut`). Premultiplied, blended over the target (One,
+// opacity `1 - T` with T the transmittance the shade pass multiplied up, color the weighted mean
+// the shade pass added up (the tail's fragments near the k-th, weighted by their estimated
+// visibility), or that of the farthest of the k where no tail fragment was weighted (see
+// `tress_shading::resolve_shortcut`). Premultiplied, blended over the target (One,
 // OneMinusSrcAlpha) like the PPLL resolve. Owner: `ShortcutResolve`.
 
 #include "common/fullscreen.wgsl"
@@ -14,6 +15,7 @@
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> params: StrandParams;
 @group(3) @binding(4) var transmittance: texture_2d<f32>;
+@group(3) @binding(6) var tail: texture_2d<f32>;
 
 @vertex
 fn vs_main(@builtin(vertex_index) vertex_index: u32) -> @builtin(position) vec4<f32> {
@@ -43,5 +45,10 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         discard;
     }
     let tail_alpha = 1.0 - textureLoad(transmittance, px, 0).r;
-    return blend_under(acc, vec4<f32>(farthest * tail_alpha, tail_alpha));
+    let weighted = textureLoad(tail, px, 0);
+    var tail_color = farthest;
+    if weighted.a > 0.0 {
+        tail_color = weighted.rgb / weighted.a;
+    }
+    return blend_under(acc, vec4<f32>(tail_color * tail_alpha, tail_alpha));
 }

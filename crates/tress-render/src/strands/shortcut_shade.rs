@@ -3,11 +3,12 @@
 use crate::bind::Layouts;
 use crate::gpu::pipeline::{RasterPipeline, depth_test, pipeline_layout};
 use crate::strands::oit::OitInputs;
-use crate::strands::shortcut::{ShortcutBuffers, TRANSMITTANCE_FORMAT};
+use crate::strands::shortcut::{ShortcutBuffers, TAIL_FORMAT, TRANSMITTANCE_FORMAT};
 use crate::{GpuContext, RenderError, shaders};
 
 /// ShortCut's shade pass: the `k` nearest fragments of each pixel are shaded into their layers,
-/// every other fragment multiplies its opacity into the tail's transmittance.
+/// every other fragment multiplies its opacity into the tail's transmittance, and those near the
+/// k-th add their weighted color into the tail's color.
 #[derive(Debug)]
 pub struct ShortcutShade {
     pipeline: wgpu::RenderPipeline,
@@ -17,6 +18,13 @@ pub struct ShortcutShade {
 const MULTIPLY_TRANSMITTANCE: wgpu::BlendComponent = wgpu::BlendComponent {
     src_factor: wgpu::BlendFactor::Zero,
     dst_factor: wgpu::BlendFactor::OneMinusSrc,
+    operation: wgpu::BlendOperation::Add,
+};
+
+/// `dst + src`: the tail color's blend (sums of weighted colors and weights).
+const ADD: wgpu::BlendComponent = wgpu::BlendComponent {
+    src_factor: wgpu::BlendFactor::One,
+    dst_factor: wgpu::BlendFactor::One,
     operation: wgpu::BlendOperation::Add,
 };
 
@@ -51,9 +59,17 @@ impl ShortcutShade {
                 }),
                 write_mask: wgpu::ColorWrites::RED,
             };
+            let tail = wgpu::ColorTargetState {
+                format: TAIL_FORMAT,
+                blend: Some(wgpu::BlendState {
+                    color: ADD,
+                    alpha: ADD,
+                }),
+                write_mask: wgpu::ColorWrites::ALL,
+            };
             let pipeline = RasterPipeline {
                 depth_stencil: Some(depth_test(false, wgpu::CompareFunction::Less)),
-                targets: &[Some(target)],
+                targets: &[Some(target), Some(tail)],
                 ..RasterPipeline::new("strands/shortcut_shade/pipeline", &pipeline_layout, &module)
             }
             .create(ctx);
@@ -61,7 +77,8 @@ impl ShortcutShade {
         })
     }
 
-    /// Record the pass: clear the transmittance to 1, then draw every segment's quad.
+    /// Record the pass: clear the transmittance to 1 and the tail color to 0, then draw every
+    /// segment's quad.
     pub(crate) fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -72,15 +89,26 @@ impl ShortcutShade {
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("strands/shortcut_shade/pass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &buffers.transmittance,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::WHITE),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
+            color_attachments: &[
+                Some(wgpu::RenderPassColorAttachment {
+                    view: &buffers.transmittance,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::WHITE),
+                        store: wgpu::StoreOp::Store,
+                    },
+                }),
+                Some(wgpu::RenderPassColorAttachment {
+                    view: &buffers.tail,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                }),
+            ],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: inputs.depth,
                 depth_ops: None,

@@ -1,9 +1,11 @@
 // ShortCut shade pass (after TressFX 4.1's "ShortCut"): a fragment whose depth is one of its
 // pixel's k nearest (found by the depth pass) claims that layer, is shaded (the PPLL's own
 // `shade_strand`) and stores its color and alpha there, to be blended in depth order by the
-// resolve. Every other fragment is the pixel's tail: it is not shaded, and its opacity is
-// multiplied into the transmittance target (blend `dst * (1 - src)`), so the tail's opacity
-// `1 - Π(1 - alpha)` is exact and independent of order. No fragment is dropped. Owner:
+// resolve. Every other fragment is the pixel's tail: its opacity is multiplied into the
+// transmittance target (blend `dst * (1 - src)`), so the tail's opacity `1 - Π(1 - alpha)` is
+// exact and independent of order, and the tail fragments near the k-th are shaded and added into
+// the tail target with the weight `alpha * exp(-(z - z_k) * falloff)` (`common/shortcut_keys.wgsl`),
+// so the resolve gives the tail their weighted mean color. No fragment is dropped. Owner:
 // `ShortcutShade`.
 
 #include "common/strand_fragment.wgsl"
@@ -50,23 +52,55 @@ fn claim_layer(p: u32, key: u32, alpha: f32) -> u32 {
     return MAX_SHORTCUT_K;
 }
 
+struct ShadeOut {
+    // Multiplied into the transmittance: `dst * (1 - src.r)`.
+    @location(0) transmittance: vec4<f32>,
+    // Added into the tail's weighted color and weight.
+    @location(1) tail: vec4<f32>,
+}
+
+// A tail fragment: its opacity for the transmittance and, if the roulette picks it, its color
+// weighted by how much of it the falloff from the k-th depth estimates shows through, over the
+// chance it was picked (`common/shortcut_keys.wgsl`; none when the pixel has no falloff: the
+// resolve then gives the tail the k-th's color). CPU twin: `tress_shading::shortcut_tail_weight`.
+fn tail_fragment(in: StrandVarying, alpha: f32, p: u32, far: u32) -> ShadeOut {
+    var out: ShadeOut;
+    out.transmittance = vec4<f32>(alpha, 0.0, 0.0, 0.0);
+    out.tail = vec4<f32>(0.0);
+    let falloff = tail_falloff(p);
+    let z = clamp(in.position.z, 0.0, 1.0);
+    let factor = exp(-max(z - shortcut_depth(far), 0.0) * falloff);
+    let pick = min(1.0, TAIL_PICK * factor);
+    let u = f32(hash_u32(bitcast<u32>(z) ^ hash_u32(bitcast<u32>(alpha))) >> 8u) / 16777216.0;
+    if falloff > 0.0 && u < pick {
+        let w = alpha * factor / pick;
+        out.tail = vec4<f32>(shade_strand(in, camera, params) * w, w);
+    }
+    return out;
+}
+
 @fragment
-fn fs_main(in: StrandVarying) -> @location(0) vec4<f32> {
+fn fs_main(in: StrandVarying) -> ShadeOut {
     let alpha = strand_fragment_alpha(in, camera, params, head_depth);
     if alpha <= 0.0 {
         discard;
     }
     let p = strand_pixel_index(in, params);
     let key = shortcut_key(in.position.z);
+    let far = shortcut_far[p];
     // Farther than the pixel's k-th nearest: the tail, told by one load.
-    if key < shortcut_far[p] {
-        return vec4<f32>(alpha, 0.0, 0.0, 0.0);
+    if key < far {
+        return tail_fragment(in, alpha, p, far);
     }
     let layer = claim_layer(p, key, alpha);
     if layer < MAX_SHORTCUT_K {
         shortcut_colors[layer * shortcut_pixels(params) + p] = pack_rgb9e5(shade_strand(in, camera, params));
-        // Blended as `dst * (1 - 0)`: the near fragments leave the tail's transmittance alone.
-        return vec4<f32>(0.0);
+        // Blended as `dst * (1 - 0)` and `dst + 0`: the near fragments leave the tail alone.
+        var out: ShadeOut;
+        out.transmittance = vec4<f32>(0.0);
+        out.tail = vec4<f32>(0.0);
+        return out;
     }
-    return vec4<f32>(alpha, 0.0, 0.0, 0.0);
+    // A tie beyond k: a tail fragment at the k-th depth.
+    return tail_fragment(in, alpha, p, far);
 }

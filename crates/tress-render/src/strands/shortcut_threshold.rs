@@ -29,7 +29,11 @@ impl ShortcutThreshold {
             let layout = bind_group_layout(
                 ctx,
                 "strands/shortcut_threshold/layout",
-                &[storage(0, compute, false), storage(1, compute, false)],
+                &[
+                    storage(0, compute, false),
+                    storage(1, compute, false),
+                    storage(2, compute, false),
+                ],
             );
             let pipeline_layout = pipeline_layout(
                 ctx,
@@ -62,9 +66,11 @@ impl ShortcutThreshold {
             &[
                 (0, buffers.keys.as_entire_binding()),
                 (1, buffers.far.as_entire_binding()),
+                (2, buffers.falloff.as_entire_binding()),
             ],
         );
-        let groups = (buffers.size[0] * buffers.size[1]).div_ceil(WORKGROUP);
+        // One invocation a pair of pixels.
+        let groups = (buffers.size[0] * buffers.size[1]).div_ceil(2 * WORKGROUP);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("strands/shortcut_threshold/pass"),
             timestamp_writes: timestamps,

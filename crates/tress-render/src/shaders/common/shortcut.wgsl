@@ -10,6 +10,7 @@
 // alphas in [0, 1] have the top bit clear, so a claimed word never equals a key.
 
 #include "common/ppll.wgsl"
+#include "common/shortcut_keys.wgsl"
 
 // Mirrored by `gpu::types::PpllCounters` (ShortCut counts fragments; it never drops one).
 struct ShortcutCounters {
@@ -21,19 +22,23 @@ struct ShortcutCounters {
 
 // Largest k the ShortCut passes support (mirrored by `strands::MAX_SHORTCUT_K`).
 const MAX_SHORTCUT_K: u32 = 16u;
-const KEY_MAX: u32 = 0x7fffffffu;
 const CLAIMED: u32 = 0x80000000u;
 
 @group(3) @binding(0) var<storage, read_write> shortcut_keys: array<atomic<u32>>;
 @group(3) @binding(1) var<storage, read_write> shortcut_colors: array<u32>;
 @group(3) @binding(2) var<storage, read_write> shortcut_counters: ShortcutCounters;
-// Per pixel: the key of its k-th nearest fragment after the depth pass (0: fewer than k), copied
-// by the threshold pass before the shade pass claims layers.
+// Per pixel, written by the threshold pass before the shade pass claims layers: the key of its
+// k-th nearest fragment after the depth pass (0: fewer than k).
 @group(3) @binding(5) var<storage, read> shortcut_far: array<u32>;
+// Two pixels a word (half floats, pixel 2i low): the tail's depth falloff `1 / (TAIL_SPACINGS *
+// g)`, `g` the mean depth spacing of the pixel's k layers (0: no falloff known, k = 1 or every
+// layer at one depth; the tail then takes the k-th's color).
+@group(3) @binding(7) var<storage, read> shortcut_falloff: array<u32>;
 
-// The layer-sorting key of a depth in [0, 1]: larger is nearer, never 0 and never CLAIMED.
-fn shortcut_key(depth: f32) -> u32 {
-    return KEY_MAX - bitcast<u32>(clamp(depth, 0.0, 1.0));
+// Pixel `p`'s tail falloff.
+fn tail_falloff(p: u32) -> f32 {
+    let pair = unpack2x16float(shortcut_falloff[p / 2u]);
+    return select(pair.x, pair.y, (p & 1u) == 1u);
 }
 
 #include "common/params.wgsl"
