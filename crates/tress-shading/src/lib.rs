@@ -118,7 +118,7 @@ pub use shadow::{
     strand_visibility,
 };
 pub use shortcut::{
-    SHORTCUT_MAX_FALLOFF, SHORTCUT_TAIL_PICK, SHORTCUT_TAIL_SPACINGS, resolve_shortcut, shortcut_accumulator,
+    SHORTCUT_TAIL_PICK, SHORTCUT_TAIL_SPACINGS, resolve_shortcut, shortcut_accumulator,
     shortcut_tail_falloff, shortcut_tail_weight,
 };
 pub use volume::{

@@ -35,8 +35,6 @@ pub const SHORTCUT_TAIL_SPACINGS: f32 = 5.0;
 /// A tail fragment is shaded with probability `min(1, SHORTCUT_TAIL_PICK · factor)`
 /// (`TAIL_PICK`).
 pub const SHORTCUT_TAIL_PICK: f32 = 1.0;
-/// The largest tail falloff (`MAX_FALLOFF`): the GPU keeps it as a half float.
-pub const SHORTCUT_MAX_FALLOFF: f32 = 60_000.0;
 
 /// `hash_u32` of `common/strand_shading.wgsl` (a PCG-style output permutation).
 fn hash_u32(x: u32) -> u32 {
@@ -64,8 +62,9 @@ pub fn shortcut_tail_weight(fragment: &StrandFragment, z_k: f32, falloff: f32) -
 }
 
 /// The tail's depth falloff `1 / (SHORTCUT_TAIL_SPACINGS · g)` from the sorted `front` layers
-/// (`g` their mean depth spacing, depths clamped to `[0, 1]` as the layer keys hold them), or 0
-/// when it is unknown (one layer, or every layer at one depth).
+/// (`g` their mean depth spacing, depths clamped to `[0, 1]` as the layer keys hold them) to 8
+/// bits of mantissa as the GPU keeps it, or 0 when it is unknown (one layer, or every layer at
+/// one depth).
 pub fn shortcut_tail_falloff(front: &[StrandFragment]) -> f32 {
     let (Some(near), Some(far)) = (front.first(), front.last()) else {
         return 0.0;
@@ -75,7 +74,9 @@ pub fn shortcut_tail_falloff(front: &[StrandFragment]) -> f32 {
     }
     let spacing = (saturate(far.depth) - saturate(near.depth)) / (front.len() - 1) as f32;
     if spacing > 0.0 {
-        (1.0 / (SHORTCUT_TAIL_SPACINGS * spacing)).min(SHORTCUT_MAX_FALLOFF)
+        // Kept as the GPU keeps it: the top 16 bits of the f32, rounded (`falloff_bits`).
+        let bits = (1.0 / (SHORTCUT_TAIL_SPACINGS * spacing)).to_bits();
+        f32::from_bits((bits.saturating_add(0x8000).min(0x7f7f_0000) >> 16) << 16)
     } else {
         0.0
     }

@@ -25,7 +25,7 @@ pub(crate) const TRANSMITTANCE: u32 = 4;
 pub(crate) const FAR: u32 = 5;
 /// Binding of the tail's weighted color (resolve pass).
 pub(crate) const TAIL: u32 = 6;
-/// Binding of the per-pixel tail falloffs, two half floats a word (shade pass).
+/// Binding of the per-pixel tail falloffs, two 16-bit floats a word (shade pass).
 pub(crate) const FALLOFF: u32 = 7;
 
 /// Bytes ShortCut needs for a target of `size` with `k` layers: 8 bytes a layer a pixel (key,
@@ -74,7 +74,7 @@ pub(crate) struct ShortcutBuffers {
     pub(crate) counters: wgpu::Buffer,
     /// Per pixel: the key of its k-th nearest fragment (`shortcut_threshold.wgsl`).
     pub(crate) far: wgpu::Buffer,
-    /// Per pair of pixels: their tail falloffs as two half floats.
+    /// Per pair of pixels: their tail falloffs as the top 16 bits of two f32s.
     pub(crate) falloff: wgpu::Buffer,
     pub(crate) transmittance: wgpu::TextureView,
     /// The tail's weighted color: `Σ w · color` in rgb, `Σ w` in alpha.

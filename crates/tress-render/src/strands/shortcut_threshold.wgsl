@@ -23,7 +23,7 @@ fn threshold(p: u32, pixels: u32, k: u32) -> f32 {
     if spacing <= 0.0 {
         return 0.0;
     }
-    return min(1.0 / (TAIL_SPACINGS * spacing), MAX_FALLOFF);
+    return 1.0 / (TAIL_SPACINGS * spacing);
 }
 
 // One invocation a pair of pixels (their falloffs share a word).
@@ -41,5 +41,5 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     if p + 1u < pixels {
         high = threshold(p + 1u, pixels, k);
     }
-    shortcut_falloff[pair] = pack2x16float(vec2<f32>(low, high));
+    shortcut_falloff[pair] = falloff_bits(low) | (falloff_bits(high) << 16u);
 }

@@ -30,15 +30,15 @@ const CLAIMED: u32 = 0x80000000u;
 // Per pixel, written by the threshold pass before the shade pass claims layers: the key of its
 // k-th nearest fragment after the depth pass (0: fewer than k).
 @group(3) @binding(5) var<storage, read> shortcut_far: array<u32>;
-// Two pixels a word (half floats, pixel 2i low): the tail's depth falloff `1 / (TAIL_SPACINGS *
+// Two pixels a word (the top 16 bits of an f32, pixel 2i low): the tail's depth falloff `1 / (TAIL_SPACINGS *
 // g)`, `g` the mean depth spacing of the pixel's k layers (0: no falloff known, k = 1 or every
 // layer at one depth; the tail then takes the k-th's color).
 @group(3) @binding(7) var<storage, read> shortcut_falloff: array<u32>;
 
 // Pixel `p`'s tail falloff.
 fn tail_falloff(p: u32) -> f32 {
-    let pair = unpack2x16float(shortcut_falloff[p / 2u]);
-    return select(pair.x, pair.y, (p & 1u) == 1u);
+    let word = shortcut_falloff[p / 2u];
+    return bitcast<f32>(select(word << 16u, word & 0xffff0000u, (p & 1u) == 1u));
 }
 
 #include "common/params.wgsl"

@@ -13,9 +13,12 @@ const KEY_MAX: u32 = 0x7fffffffu;
 // `tress_shading::SHORTCUT_TAIL_PICK`).
 const TAIL_SPACINGS: f32 = 5.0;
 const TAIL_PICK: f32 = 1.0;
-// The largest falloff kept (layers closer than that are one depth), within a half float's range
-// (mirrored by `tress_shading::SHORTCUT_MAX_FALLOFF`).
-const MAX_FALLOFF: f32 = 60000.0;
+
+// The top 16 bits of a non-negative f32, rounded to nearest (a bfloat16: 8 bits of mantissa),
+// as the falloffs are kept (mirrored by `tress_shading::shortcut_tail_falloff`).
+fn falloff_bits(falloff: f32) -> u32 {
+    return min(bitcast<u32>(falloff) + 0x8000u, 0x7f7f0000u) >> 16u;
+}
 
 // The depth a layer-sorting key stands for (`shortcut_key`'s inverse).
 fn shortcut_depth(key: u32) -> f32 {
