@@ -76,8 +76,10 @@
 //!   material's fibre ([`tress_scene::Material::fiber`]), a Lambertian head, next-event
 //!   estimation of the directional lights (irradiance `π · color · intensity`), a uniform sky of
 //!   radiance `ambient` for rays that leave after a bounce, up to `bounces` bounces with Russian
-//!   roulette. Checked against Mitsuba 3 (`tests/mitsuba/`). The AO and shadow AOVs are those
-//!   of the direct tracer below, with opaque strands.
+//!   roulette; its secondary rays start at the hit point on the fibre's surface. Checked
+//!   against Mitsuba 3 (`docs/mitsuba/compare.py`, and `tests/cli_mitsuba.rs` of `tress-cli`
+//!   against its committed images). The AO and shadow AOVs are those of the direct tracer
+//!   below, with opaque strands.
 //! - **Shading** uses the `tress-shading` twins of the GPU's WGSL with the rasterizer's inputs:
 //!   Kajiya-Kay ([`tress_shading::kajiya_kay()`]) with the base color as `K_d` and the primary
 //!   highlight as `K_s`, `p`; or Scheuermann's [`tress_shading::hair_lighting`] with the

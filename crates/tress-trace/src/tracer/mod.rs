@@ -38,7 +38,8 @@ const AO_STREAM: u64 = 1 << 41;
 /// Where a secondary ray starts, so the primitives it starts on are not hit.
 #[derive(Clone, Copy, Debug)]
 enum Origin {
-    /// On a strand's axis: the segment and its two neighbours on the strand are skipped.
+    /// On a strand (on its axis for the direct tracer's shadow and AO rays, on its surface for
+    /// the path tracer's rays): the segment and its two neighbours on the strand are skipped.
     Strand { strand: u32, vertex: u32 },
     /// On a triangle: that triangle is skipped.
     Triangle(u32),

@@ -16,9 +16,14 @@
 //!   throughput is multiplied by `f / pdf`. After `trace.bounces` bounces the path ends; from the
 //!   third bounce on it plays Russian roulette, surviving with probability `min(1, max(β))`
 //!   and dividing by it (unbiased; a white fibre keeps `β = 1` and is never cut short).
-//! - Secondary rays start on the strand's axis and skip the segment and its neighbours, like the
-//!   shadow rays of the Kajiya-Kay tracer; the offset `h` and the frame come from the surface
-//!   normal at the hit ([`FiberFrame`]).
+//! - Secondary rays start at the hit point on the strand's surface, where Chiang's model puts
+//!   the whole walk through the fibre (its light enters and leaves there), and skip the segment
+//!   and its neighbours, so a ray through the fibre (TT) leaves it. The offset `h` and the frame
+//!   come from the surface normal at the hit ([`FiberFrame`]). They do not start on the axis as
+//!   the Kajiya-Kay tracer's shadow rays do: a strand overlapping this one (clumped generated
+//!   hair has many) holds the axis point, a ray that starts inside a capsule does not hit it,
+//!   and light came through the overlapping strand (found by the Mitsuba 3 comparison in
+//!   `docs/mitsuba/`; tested by `an_overlapping_strand_shadows_the_fibre`).
 
 use glam::Vec3;
 use tress_hair::rng::Rng;
@@ -120,7 +125,7 @@ impl Tracer {
                         vertex: seg.vertex,
                     };
                     let bsdf = ChiangBsdf::new(&self.fiber, frame.h);
-                    (axis, from, Surface::Fiber(frame, bsdf))
+                    (ray.at(t), from, Surface::Fiber(frame, bsdf))
                 }
                 HitKind::Triangle { tri, id, u, v } => {
                     let p = ray.at(t);

@@ -135,6 +135,38 @@ fn opaque_fibres_cast_hard_shadows() {
 }
 
 #[test]
+fn an_overlapping_strand_shadows_the_fibre() {
+    // Strand B overlaps strand A (axes 0.3 apart, radius 0.4), between A and the light: the
+    // light reaching A's lit point crosses B, however the two intersect. A ray from A's axis
+    // would start inside B and miss it (light came through before the fix); from A's surface
+    // it enters B.
+    let sc = pb_scene(4, "[[light]]\ndirection = [0.0, 0.0, 1.0]", &[]);
+    let pairs = [
+        (Vec3::new(-3.0, 0.0, 0.0), Vec3::new(3.0, 0.0, 0.0)),
+        (Vec3::new(-3.0, 0.0, 0.3), Vec3::new(3.0, 0.0, 0.3)),
+    ];
+    let tr = tracer(&sc, Some(strands(&pairs, 0.8)), None, &settings(1, 0, 0.0));
+    // From below, so the camera ray meets A (outside B) first.
+    let mut rays = 0;
+    for y in [0.0, 0.1, 0.2] {
+        let ray = Ray::new(Vec3::new(0.0, y, -5.0), Vec3::Z, 0.0, f32::INFINITY);
+        assert_eq!(
+            tr.path_radiance(&ray, &mut Rng::new(2), &mut rays),
+            Vec3::ZERO,
+            "y = {y}"
+        );
+    }
+    // Without B, the same points are lit through A (TT).
+    let tr = tracer(&sc, Some(strands(&pairs[..1], 0.8)), None, &settings(1, 0, 0.0));
+    let ray = Ray::new(Vec3::new(0.0, 0.1, -5.0), Vec3::Z, 0.0, f32::INFINITY);
+    assert!(
+        tr.path_radiance(&ray, &mut Rng::new(2), &mut rays)
+            .max_element()
+            > 0.0
+    );
+}
+
+#[test]
 fn the_head_is_lambert_in_the_gpu_head_passs_units() {
     // A quad facing a light along its normal returns HEAD_COLOR · color · intensity, what the
     // Kajiya-Kay tracer and the GPU head pass draw.
