@@ -34,8 +34,9 @@ How the tress scene maps to Mitsuba (every convention read from tress-trace's
   largest distance at a segment's midpoint, is 0.09 world units for the committed scenes, a
   third of a pixel). `--curve linearcurve` takes the polyline as it is, but Mitsuba 3.9.1's
   `linearcurve` builds its shading frame from the normal alone, so the BSDF sees an arbitrary
-  direction perpendicular to the normal as the fibre axis (speckled, wrong highlights; mean
-  FLIP 0.14 against tress where `bsplinecurve` gives 0.04 at 16 spp).
+  direction perpendicular to the normal as the fibre axis (speckled, wrong highlights: mean
+  FLIP 0.14 against tress at 16 spp, measured before tress's ray-origin fix; `bsplinecurve`
+  gave 0.04 with direct light only at 128 spp).
 - Camera: tress's `fov_y_deg` is the vertical field of view; Mitsuba's `fov_axis = "y"`, the
   same `lookat`, a box reconstruction filter (tress averages the samples inside each pixel).
 - Lights: a tress light's `color * intensity` is the radiance a white Lambertian surface facing
