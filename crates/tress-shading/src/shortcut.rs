@@ -221,7 +221,11 @@ mod tests {
         // with p = 1 down to 0.34.
         let (mut got, mut want, mut picked) = (0.0f64, 0.0f64, 0);
         for i in 0..20_000 {
-            let f = frag([0.5; 3], 0.2 + 0.1 * (i % 7) as f32 / 7.0, 0.5 + 1e-5 * i as f32);
+            let f = frag(
+                [0.5; 3],
+                0.2 + 0.1 * (i % 7) as f32 / 7.0,
+                0.5 + 1e-5 * i as f32,
+            );
             let w = shortcut_tail_weight(&f, 0.5, 10.0);
             got += f64::from(w);
             want += f64::from(f.alpha * (-(f.depth - 0.5) * 10.0).exp());
@@ -230,8 +234,14 @@ mod tests {
         assert!((got / want - 1.0).abs() < 0.02, "{got} vs {want}");
         assert!((8_000..16_000).contains(&picked), "{picked}");
         // No falloff: nothing is weighted; a fragment in front of the k-th counts as at it.
-        assert_eq!(shortcut_tail_weight(&frag([0.5; 3], 0.3, 0.6), 0.5, 0.0), 0.0);
-        assert_eq!(shortcut_tail_weight(&frag([0.5; 3], 0.3, 0.4), 0.5, 10.0), 0.3);
+        assert_eq!(
+            shortcut_tail_weight(&frag([0.5; 3], 0.3, 0.6), 0.5, 0.0),
+            0.0
+        );
+        assert_eq!(
+            shortcut_tail_weight(&frag([0.5; 3], 0.3, 0.4), 0.5, 10.0),
+            0.3
+        );
     }
 
     #[test]
@@ -241,7 +251,11 @@ mod tests {
         // plain mean would be nearly the dark's. The falloff keeps the tail near the exact.
         let f: Vec<StrandFragment> = (0..200)
             .map(|i| {
-                let c = if i < 8 { [0.8, 0.7, 0.6] } else { [0.05, 0.04, 0.03] };
+                let c = if i < 8 {
+                    [0.8, 0.7, 0.6]
+                } else {
+                    [0.05, 0.04, 0.03]
+                };
                 frag(c, 0.3, 0.1 + 0.004 * i as f32)
             })
             .collect();
@@ -258,7 +272,10 @@ mod tests {
         let err = (got - exact).abs().max_element();
         assert!(err < 0.05, "{got} vs exact {exact}");
         let mean_err = (mean_composite - exact).abs().max_element();
-        assert!(err < 0.35 * mean_err, "{err} vs the plain mean's {mean_err}");
+        assert!(
+            err < 0.35 * mean_err,
+            "{err} vs the plain mean's {mean_err}"
+        );
     }
 
     #[test]

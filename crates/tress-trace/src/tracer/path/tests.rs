@@ -157,7 +157,12 @@ fn an_overlapping_strand_shadows_the_fibre() {
         );
     }
     // Without B, the same points are lit through A (TT).
-    let tr = tracer(&sc, Some(strands(&pairs[..1], 0.8)), None, &settings(1, 0, 0.0));
+    let tr = tracer(
+        &sc,
+        Some(strands(&pairs[..1], 0.8)),
+        None,
+        &settings(1, 0, 0.0),
+    );
     let ray = Ray::new(Vec3::new(0.0, 0.1, -5.0), Vec3::Z, 0.0, f32::INFINITY);
     assert!(
         tr.path_radiance(&ray, &mut Rng::new(2), &mut rays)
