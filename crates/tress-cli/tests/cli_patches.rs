@@ -4,10 +4,9 @@
 
 mod common;
 
-use std::path::PathBuf;
 use std::process::Output;
 
-use common::{assert_gpu_success, skip_gpu, tmp, tress};
+use common::{assert_gpu_success, skip_gpu, straight_hair, tmp, tress};
 use tress_hair::patches::PatchMesh;
 
 #[track_caller]
@@ -18,30 +17,9 @@ fn ok(out: &Output) -> serde_json::Value {
     serde_json::from_str(&stdout).expect("JSON")
 }
 
-/// A small strand asset on disk.
-fn hair(name: &str) -> PathBuf {
-    let path = tmp(name);
-    let out = tress(&[
-        "generate",
-        "straight",
-        "-o",
-        path.to_str().unwrap(),
-        "--strands",
-        "300",
-        "--vertices",
-        "8",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    path
-}
-
 #[test]
 fn cards_then_bake_ao_write_valid_patch_objs() {
-    let hair = hair("cards.hair");
+    let hair = straight_hair("cards.hair", 300);
     let obj = tmp("cards.obj");
     let textures = tmp("textures");
     let report = ok(&tress(&[
@@ -118,7 +96,7 @@ fn render_patch_obj_lists_the_four_passes() {
     if skip_gpu() {
         return;
     }
-    let hair = hair("render.hair");
+    let hair = straight_hair("render.hair", 300);
     let obj = tmp("render.obj");
     ok(&tress(&[
         "cards",

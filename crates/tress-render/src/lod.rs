@@ -25,6 +25,7 @@ use glam::Vec3;
 
 use crate::bind::{bind_group, bind_group_layout, texture_2d, uniform};
 use crate::gpu::pipeline::{RasterPipeline, over_color_pass, pipeline_layout, premultiplied_over};
+use crate::gpu::screen_layer;
 use crate::gpu::types::LodParams;
 use crate::strands::StrandSettings;
 use crate::volume::{ShadowMode, VolumeSettings};
@@ -261,23 +262,7 @@ impl LodLayers {
     ) -> Result<Self, RenderError> {
         ctx.scoped("allocating the LOD layers", || {
             let layer = |name: &str| {
-                ctx.device
-                    .create_texture(&wgpu::TextureDescriptor {
-                        label: Some(&format!("lod/lod_blend/{name}-layer")),
-                        size: wgpu::Extent3d {
-                            width: size[0],
-                            height: size[1],
-                            depth_or_array_layers: 1,
-                        },
-                        mip_level_count: 1,
-                        sample_count: 1,
-                        dimension: wgpu::TextureDimension::D2,
-                        format,
-                        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                            | wgpu::TextureUsages::TEXTURE_BINDING,
-                        view_formats: &[],
-                    })
-                    .create_view(&Default::default())
+                screen_layer(ctx, &format!("lod/lod_blend/{name}-layer"), size, format)
             };
             LodLayers {
                 size,

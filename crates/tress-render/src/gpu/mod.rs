@@ -17,8 +17,8 @@ pub use readback::{
     LinearImage, f16_to_f32, linear_to_srgb, read_buffer, read_texture, read_whole_buffer,
     srgb_to_linear,
 };
-pub(crate) use target::clear_loads;
 pub use target::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTargets, TargetFormats, Targets};
+pub(crate) use target::{clear_loads, screen_layer};
 pub(crate) use timer::GpuTimer;
 pub use timer::{PassTiming, Timings};
 

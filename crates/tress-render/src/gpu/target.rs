@@ -240,3 +240,29 @@ impl OffscreenTargets {
         [self.color.width(), self.color.height()]
     }
 }
+
+/// A view of a new 2D texture of `size` and `format` that passes render into and later passes
+/// read (`RENDER_ATTACHMENT | TEXTURE_BINDING`): the screen-sized intermediate layers.
+pub(crate) fn screen_layer(
+    ctx: &GpuContext,
+    label: &str,
+    size: [u32; 2],
+    format: wgpu::TextureFormat,
+) -> wgpu::TextureView {
+    ctx.device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: size[0],
+                height: size[1],
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        })
+        .create_view(&Default::default())
+}

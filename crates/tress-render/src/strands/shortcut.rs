@@ -6,6 +6,7 @@
 //! (63.3 MiB).
 
 use crate::bind::{depth_texture, storage, texture_2d};
+use crate::gpu::screen_layer;
 use crate::gpu::types::PpllCounters;
 use crate::{GpuContext, RenderError};
 
@@ -108,25 +109,7 @@ impl ShortcutBuffers {
                     mapped_at_creation: false,
                 })
             };
-            let texture = |label: &str, format| {
-                ctx.device
-                    .create_texture(&wgpu::TextureDescriptor {
-                        label: Some(label),
-                        size: wgpu::Extent3d {
-                            width: size[0],
-                            height: size[1],
-                            depth_or_array_layers: 1,
-                        },
-                        mip_level_count: 1,
-                        sample_count: 1,
-                        dimension: wgpu::TextureDimension::D2,
-                        format,
-                        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                            | wgpu::TextureUsages::TEXTURE_BINDING,
-                        view_formats: &[],
-                    })
-                    .create_view(&Default::default())
-            };
+            let texture = |label: &str, format| screen_layer(ctx, label, size, format);
             ShortcutBuffers {
                 keys: buffer("strands/shortcut/keys", layer_bytes, storage),
                 far: buffer(

@@ -87,27 +87,22 @@ impl ShortcutShade {
         group: &wgpu::BindGroup,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
+        let cleared = |view, color| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(color),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("strands/shortcut_shade/pass"),
             color_attachments: &[
-                Some(wgpu::RenderPassColorAttachment {
-                    view: &buffers.transmittance,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::WHITE),
-                        store: wgpu::StoreOp::Store,
-                    },
-                }),
-                Some(wgpu::RenderPassColorAttachment {
-                    view: &buffers.tail,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        store: wgpu::StoreOp::Store,
-                    },
-                }),
+                cleared(&buffers.transmittance, wgpu::Color::WHITE),
+                cleared(&buffers.tail, wgpu::Color::TRANSPARENT),
             ],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: inputs.depth,
