@@ -13,7 +13,7 @@ use tress_render::{
     COLOR_FORMAT, FrameInputs, FrameStats, GpuContext, LinearImage, Material, OffscreenTargets,
     Renderer, StrandSettings, TargetFormats, read_texture,
 };
-use tress_shading::{StrandFragment, resolve_k_buffer, resolve_shortcut};
+use tress_shading::{ShortcutFragment, StrandFragment, resolve_k_buffer, resolve_shortcut};
 
 const SIZE: u32 = 64;
 
@@ -98,7 +98,12 @@ fn shortcut_matches_its_cpu_composite_for_every_k() {
             ..flat(Oit::Shortcut)
         };
         let (img, stats) = render(&ctx, settings, 1);
-        let want = resolve_shortcut(&fragments(), k as usize, BACKGROUND);
+        // Layer `i` is strand `i` (the tail roulette's number).
+        let on_strands: Vec<ShortcutFragment> = (0u32..)
+            .zip(fragments())
+            .map(|(strand, fragment)| ShortcutFragment { fragment, strand })
+            .collect();
+        let want = resolve_shortcut(&on_strands, k as usize, BACKGROUND);
         for (x, y) in [(32, 32), (5, 25), (60, 40)] {
             // RGB9E5 colors and a half-float transmittance.
             assert_close(

@@ -110,3 +110,35 @@ fn shading_test_harness_validates() {
     let text = shaders::compose_source("tests/shading_gpu.wgsl", src).expect("composes");
     validate("tests/shading_gpu.wgsl", &text);
 }
+
+/// The value of a scalar `const` of a composed module, as f64.
+fn scalar_const(module: &naga::Module, name: &str) -> f64 {
+    let (_, c) = module
+        .constants
+        .iter()
+        .find(|(_, c)| c.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("no const {name}"));
+    match module.global_expressions[c.init] {
+        naga::Expression::Literal(naga::Literal::F32(v)) => f64::from(v),
+        naga::Expression::Literal(naga::Literal::U32(v)) => f64::from(v),
+        ref e => panic!("{name} is not a literal: {e:?}"),
+    }
+}
+
+#[test]
+fn shortcut_tail_constants_mirror_the_cpu_twin() {
+    let text = shaders::compose("common/shortcut_keys.wgsl").expect("composes");
+    let module = validate("common/shortcut_keys.wgsl", &text);
+    assert_eq!(
+        scalar_const(&module, "TAIL_SPACINGS"),
+        f64::from(tress_shading::SHORTCUT_TAIL_SPACINGS)
+    );
+    assert_eq!(
+        scalar_const(&module, "TAIL_PICK"),
+        f64::from(tress_shading::SHORTCUT_TAIL_PICK)
+    );
+    assert_eq!(
+        scalar_const(&module, "TAIL_SALT"),
+        f64::from(tress_shading::SHORTCUT_TAIL_SALT)
+    );
+}

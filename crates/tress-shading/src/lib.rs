@@ -118,8 +118,8 @@ pub use shadow::{
     strand_visibility,
 };
 pub use shortcut::{
-    SHORTCUT_TAIL_PICK, SHORTCUT_TAIL_SPACINGS, resolve_shortcut, shortcut_accumulator,
-    shortcut_tail_falloff, shortcut_tail_weight,
+    SHORTCUT_TAIL_PICK, SHORTCUT_TAIL_SALT, SHORTCUT_TAIL_SPACINGS, ShortcutFragment,
+    resolve_shortcut, shortcut_accumulator, shortcut_tail_falloff, shortcut_tail_weight,
 };
 pub use volume::{
     DensityVolume, NO_CAP, VolumeSizeError, ao_offset, density_gradient, density_normal,

@@ -11,7 +11,10 @@
 //! spacings deep per unit of optical depth. Shading every tail fragment would make the shade
 //! pass slower than the PPLL's, so a hash roulette picks a fragment with probability `p =
 //! min(1, SHORTCUT_TAIL_PICK · factor)` and weighs it `1 / p` more ([`shortcut_tail_weight`]):
-//! the same mean in expectation from a few fragments a pixel. Where no tail fragment is
+//! the same mean in expectation from a few fragments a pixel. The roulette's number is a hash of
+//! the fragment's strand, so the fragments of one primitive, shaded side by side in one SIMD
+//! group, are picked or passed over together (a per-fragment number made the group shade when
+//! any one lane was picked: the bear's shade pass took 19.5 s instead of 10.5 s on lavapipe). Where no tail fragment is
 //! weighted (k = 1, the k at one depth) the tail takes the color of the farthest of the `k`.
 //!
 //! Measured against exact sorting (the fragments of a PPLL frame that held every one, sorted on
@@ -35,6 +38,18 @@ pub const SHORTCUT_TAIL_SPACINGS: f32 = 5.0;
 /// A tail fragment is shaded with probability `min(1, SHORTCUT_TAIL_PICK · factor)`
 /// (`TAIL_PICK`).
 pub const SHORTCUT_TAIL_PICK: f32 = 1.0;
+/// Salts the strand index for the roulette's number (`TAIL_SALT`).
+pub const SHORTCUT_TAIL_SALT: u32 = 0x9e37_79b9;
+
+/// A fragment of the ShortCut composite: the fragment and the index of its strand (the tail
+/// roulette's number comes from the strand).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShortcutFragment {
+    /// Color, opacity and depth.
+    pub fragment: StrandFragment,
+    /// Index of the strand the fragment belongs to.
+    pub strand: u32,
+}
 
 /// `hash_u32` of `common/strand_shading.wgsl` (a PCG-style output permutation).
 fn hash_u32(x: u32) -> u32 {
@@ -43,17 +58,17 @@ fn hash_u32(x: u32) -> u32 {
     (h >> 22) ^ h
 }
 
-/// The weight a tail fragment adds to the tail's mean color (0: not picked), `z_k` the k-th
-/// depth and `falloff` from [`shortcut_tail_falloff`]: `alpha · factor / p` when the hash of its
-/// depth and alpha falls below `p = min(1, SHORTCUT_TAIL_PICK · factor)`, `factor = exp(-(z -
-/// z_k) · falloff)`. In expectation over the hash, `alpha · factor`. The shade pass's
-/// `tail_fragment`.
-pub fn shortcut_tail_weight(fragment: &StrandFragment, z_k: f32, falloff: f32) -> f32 {
+/// The weight a tail fragment of `strand` adds to the tail's mean color (0: not picked), `z_k`
+/// the k-th depth and `falloff` from [`shortcut_tail_falloff`]: `alpha · factor / p` when the
+/// hash of its strand falls below `p = min(1, SHORTCUT_TAIL_PICK · factor)`, `factor = exp(-(z
+/// - z_k) · falloff)`. In expectation over the hash, `alpha · factor`. The shade pass's
+/// `tail_weight`.
+pub fn shortcut_tail_weight(fragment: &StrandFragment, strand: u32, z_k: f32, falloff: f32) -> f32 {
     let z = saturate(fragment.depth);
     let alpha = saturate(fragment.alpha);
     let factor = (-(z - z_k).max(0.0) * falloff).exp();
     let pick = (SHORTCUT_TAIL_PICK * factor).min(1.0);
-    let u = (hash_u32(z.to_bits() ^ hash_u32(alpha.to_bits())) >> 8) as f32 / 16_777_216.0;
+    let u = (hash_u32(strand ^ SHORTCUT_TAIL_SALT) >> 8) as f32 / 16_777_216.0;
     if falloff > 0.0 && u < pick {
         alpha * factor / pick
     } else {
@@ -85,21 +100,28 @@ pub fn shortcut_tail_falloff(front: &[StrandFragment]) -> f32 {
 /// The ShortCut resolve of one pixel's fragments (any order) with `k` sorted layers, over
 /// `background`. Ties in depth keep their input order. With `k >= fragments.len()` this is
 /// exact sorted compositing; with `k = 0` nothing is stored and the pixel keeps `background`.
-pub fn resolve_shortcut(fragments: &[StrandFragment], k: usize, background: Vec3) -> Vec3 {
+pub fn resolve_shortcut(fragments: &[ShortcutFragment], k: usize, background: Vec3) -> Vec3 {
     let mut sorted = fragments.to_vec();
-    sorted.sort_by(|a, b| a.depth.total_cmp(&b.depth));
-    let (front, tail) = sorted.split_at(k.min(sorted.len()));
+    sorted.sort_by(|a, b| a.fragment.depth.total_cmp(&b.fragment.depth));
+    let (front, tail): (Vec<_>, Vec<_>) = (
+        sorted.iter().take(k).map(|s| s.fragment).collect(),
+        sorted.iter().skip(k).copied().collect(),
+    );
+    let front = front.as_slice();
     let Some(farthest) = front.last() else {
         return background;
     };
-    let transmittance: f32 = tail.iter().map(|f| 1.0 - saturate(f.alpha)).product();
+    let transmittance: f32 = tail
+        .iter()
+        .map(|s| 1.0 - saturate(s.fragment.alpha))
+        .product();
     let tail_alpha = 1.0 - transmittance;
     let falloff = shortcut_tail_falloff(front);
     let z_k = saturate(farthest.depth);
     let (mut weighted, mut weights) = (Vec3::ZERO, 0.0f32);
-    for f in tail {
-        let w = shortcut_tail_weight(f, z_k, falloff);
-        weighted += w * f.color;
+    for s in &tail {
+        let w = shortcut_tail_weight(&s.fragment, s.strand, z_k, falloff);
+        weighted += w * s.fragment.color;
         weights += w;
     }
     let color = if weights > 0.0 {
@@ -116,7 +138,7 @@ pub fn resolve_shortcut(fragments: &[StrandFragment], k: usize, background: Vec3
 
 /// The premultiplied accumulator `resolve_shortcut` puts over the background (for tests that
 /// compare opacity): `(rgb, coverage)`.
-pub fn shortcut_accumulator(fragments: &[StrandFragment], k: usize) -> Vec4 {
+pub fn shortcut_accumulator(fragments: &[ShortcutFragment], k: usize) -> Vec4 {
     let black = resolve_shortcut(fragments, k, Vec3::ZERO);
     let white = resolve_shortcut(fragments, k, Vec3::ONE);
     black.extend(1.0 - (white - black).x)
@@ -133,6 +155,14 @@ mod tests {
             alpha,
             depth,
         }
+    }
+
+    /// The fragments as the ShortCut composite takes them, fragment `i` on strand `i`.
+    fn on(f: &[StrandFragment]) -> Vec<ShortcutFragment> {
+        (0u32..)
+            .zip(f)
+            .map(|(strand, &fragment)| ShortcutFragment { fragment, strand })
+            .collect()
     }
 
     fn sample() -> Vec<StrandFragment> {
@@ -156,7 +186,7 @@ mod tests {
         let f = sample();
         for k in [f.len(), f.len() + 3] {
             let exact = resolve_k_buffer(&f, k, bg);
-            assert!(close(resolve_shortcut(&f, k, bg), exact, 1e-6));
+            assert!(close(resolve_shortcut(&on(&f), k, bg), exact, 1e-6));
         }
     }
 
@@ -166,7 +196,7 @@ mod tests {
         let f = sample();
         let pass: f32 = f.iter().map(|f| 1.0 - f.alpha).product();
         for k in 1..=f.len() {
-            let a = shortcut_accumulator(&f, k);
+            let a = shortcut_accumulator(&on(&f), k);
             assert!((a.w - (1.0 - pass)).abs() < 1e-5, "k = {k}: {}", a.w);
         }
     }
@@ -178,13 +208,13 @@ mod tests {
         let far = frag([0.0, 1.0, 0.0], 0.5, 0.2);
         let tail = frag([0.0, 0.0, 1.0], 0.5, 0.3);
         // k = 1: no spacing to take a falloff from.
-        let c = resolve_shortcut(&[tail, far, near], 1, bg);
+        let c = resolve_shortcut(&on(&[tail, far, near]), 1, bg);
         // near, then the tail (far and tail: opacity 0.75) in the color of near.
         let want = Vec3::new(0.5 + 0.5 * 0.75, 0.0, 0.0);
         assert!(close(c, want, 1e-6), "{c}");
         // Both layers at one depth: no spacing either.
         let twin = frag([0.0, 1.0, 0.0], 0.5, 0.1);
-        let c = resolve_shortcut(&[tail, twin, near], 2, bg);
+        let c = resolve_shortcut(&on(&[tail, twin, near]), 2, bg);
         // Ties keep their order: twin, then near, then the tail in near's color.
         let want = Vec3::new(0.25 + 0.25 * 0.5, 0.5, 0.0);
         assert!(close(c, want, 1e-6), "{c}");
@@ -198,20 +228,20 @@ mod tests {
         assert!((shortcut_tail_falloff(&[near, far]) - 10.0).abs() < 1e-3);
         let a = frag([1.0, 0.0, 0.0], 0.4, 0.12); // a tie with the k-th: factor 1
         let b = frag([0.0, 1.0, 0.0], 0.2, 0.2);
-        // exp(-0.78 · 10): picked with probability 0.001, and this one's hash does not.
+        // exp(-0.78 · 10): picked with probability 0.0004, and this one's strand (0) is not.
         let gone = frag([0.0, 0.0, 1.0], 0.9, 0.9);
-        assert_eq!(shortcut_tail_weight(&gone, 0.12, 10.0), 0.0);
+        assert_eq!(shortcut_tail_weight(&gone, 0, 0.12, 10.0), 0.0);
         // Factor 1: picked for sure, weighed alpha. Factor 0.45: picked with p = 0.45, then
         // weighed alpha · factor / p = alpha.
-        let wa = shortcut_tail_weight(&a, 0.12, 10.0);
-        let wb = shortcut_tail_weight(&b, 0.12, 10.0);
+        let wa = shortcut_tail_weight(&a, 3, 0.12, 10.0);
+        let wb = shortcut_tail_weight(&b, 1, 0.12, 10.0);
         assert_eq!(wa, 0.4);
         assert!(wb == 0.0 || (wb - 0.2).abs() < 1e-6, "{wb}");
         let tail = (Vec3::new(wa, wb, 0.0)) / (wa + wb);
         let tail_alpha = 1.0 - 0.6 * 0.8 * 0.1;
         let front = composite_sorted(&[near, far]);
         let want = blend_under(front, (tail * tail_alpha).extend(tail_alpha)).truncate();
-        let got = resolve_shortcut(&[gone, b, far, a, near], 2, Vec3::ZERO);
+        let got = resolve_shortcut(&on(&[gone, b, far, a, near]), 2, Vec3::ZERO);
         assert!(close(got, want, 1e-5), "{got} vs {want}");
     }
 
@@ -226,7 +256,7 @@ mod tests {
                 0.2 + 0.1 * (i % 7) as f32 / 7.0,
                 0.5 + 1e-5 * i as f32,
             );
-            let w = shortcut_tail_weight(&f, 0.5, 10.0);
+            let w = shortcut_tail_weight(&f, i, 0.5, 10.0);
             got += f64::from(w);
             want += f64::from(f.alpha * (-(f.depth - 0.5) * 10.0).exp());
             picked += usize::from(w > 0.0);
@@ -235,11 +265,11 @@ mod tests {
         assert!((8_000..16_000).contains(&picked), "{picked}");
         // No falloff: nothing is weighted; a fragment in front of the k-th counts as at it.
         assert_eq!(
-            shortcut_tail_weight(&frag([0.5; 3], 0.3, 0.6), 0.5, 0.0),
+            shortcut_tail_weight(&frag([0.5; 3], 0.3, 0.6), 0, 0.5, 0.0),
             0.0
         );
         assert_eq!(
-            shortcut_tail_weight(&frag([0.5; 3], 0.3, 0.4), 0.5, 10.0),
+            shortcut_tail_weight(&frag([0.5; 3], 0.3, 0.4), 0, 0.5, 10.0),
             0.3
         );
     }
@@ -260,7 +290,19 @@ mod tests {
             })
             .collect();
         let exact = resolve_k_buffer(&f, f.len(), Vec3::ZERO);
-        let got = resolve_shortcut(&f, 4, Vec3::ZERO);
+        // 64 pixels with this fur, each on its own strands: the roulette picks differently in
+        // each.
+        let errors: Vec<f32> = (0..64u32)
+            .map(|pixel| {
+                let mut s = on(&f);
+                for x in &mut s {
+                    x.strand += 1000 * pixel;
+                }
+                (resolve_shortcut(&s, 4, Vec3::ZERO) - exact)
+                    .abs()
+                    .max_element()
+            })
+            .collect();
         let mut plain = f.clone();
         plain.sort_by(|a, b| a.depth.total_cmp(&b.depth));
         let tail = &plain[4..];
@@ -269,24 +311,26 @@ mod tests {
         let t: f32 = tail.iter().map(|f| 1.0 - f.alpha).product();
         let front = composite_sorted(&plain[..4]);
         let mean_composite = blend_under(front, (mean * (1.0 - t)).extend(1.0 - t)).truncate();
-        let err = (got - exact).abs().max_element();
-        assert!(err < 0.05, "{got} vs exact {exact}");
+        let worst = errors.iter().copied().fold(0.0, f32::max);
+        let err = errors.iter().sum::<f32>() / errors.len() as f32;
         let mean_err = (mean_composite - exact).abs().max_element();
+        // On average (0.044 of 0.13) and even in the unluckiest pixel (0.11).
         assert!(
             err < 0.35 * mean_err,
             "{err} vs the plain mean's {mean_err}"
         );
+        assert!(worst < mean_err, "{worst} vs the plain mean's {mean_err}");
     }
 
     #[test]
     fn order_does_not_matter_and_the_difference_to_the_ppll_is_the_tail_color() {
         let bg = Vec3::splat(0.5);
         let f = sample();
-        let mut rev = f.clone();
+        let mut rev = on(&f);
         rev.reverse();
         for k in 1..=f.len() {
             assert!(close(
-                resolve_shortcut(&f, k, bg),
+                resolve_shortcut(&on(&f), k, bg),
                 resolve_shortcut(&rev, k, bg),
                 1e-6
             ));
@@ -298,11 +342,11 @@ mod tests {
         }
         for k in 1..=f.len() {
             assert!(close(
-                resolve_shortcut(&same, k, bg),
+                resolve_shortcut(&on(&same), k, bg),
                 resolve_k_buffer(&same, k, bg),
                 1e-6
             ));
         }
-        assert_eq!(resolve_shortcut(&f, 0, bg), bg);
+        assert_eq!(resolve_shortcut(&on(&f), 0, bg), bg);
     }
 }

@@ -15,11 +15,11 @@
 //!   farther than a full set of `k` stops after one load), a threshold pass copies each pixel's
 //!   k-th key and the tail's depth falloff (from the `k` layers' mean spacing), a shade pass
 //!   shades the `k` nearest fragments into their layers, multiplies every other fragment's
-//!   opacity into a transmittance target and, for the tail fragments a hash roulette picks
-//!   (likelier near the k-th depth), adds their shaded color weighted by the falloff into a
+//!   opacity into a transmittance target and, for the tail fragments a roulette on a hash of
+//!   their strand picks (likelier near the k-th depth), adds their shaded color weighted by the falloff into a
 //!   tail color target, and a resolve blends the `k` layers front to back with the tail under
-//!   them. Its memory is fixed by the screen and `k` (61.5 MiB at 1280x720 with the default
-//!   k = 7, 68.5 MiB at k = 8) and it never drops a fragment. The tail's opacity is exact; its
+//!   them. Its memory is fixed by the screen and `k` (63.3 MiB at 1280x720 with the default
+//!   k = 7, 70.3 MiB at k = 8) and it never drops a fragment. The tail's opacity is exact; its
 //!   color is the falloff-weighted mean of the picked fragments, or the farthest of the `k`
 //!   where none was picked. CPU twin: `tress_shading::resolve_shortcut`.
 //! - **Auto**: PPLL while a grown pool holds the frame, ShortCut once a frame asks for more

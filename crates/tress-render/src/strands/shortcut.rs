@@ -34,7 +34,19 @@ pub(crate) const FALLOFF: u32 = 7;
 /// pixel (plus 16 bytes of counters).
 pub fn shortcut_bytes(size: [u32; 2], k: u32) -> u64 {
     let pixels = u64::from(size[0]) * u64::from(size[1]);
-    pixels * u64::from(k) * 8 + pixels * 12 + falloff_bytes(size) + 16
+    pixels * u64::from(k.clamp(1, MAX_SHORTCUT_K)) * 8
+        + pixels * 4
+        + falloff_bytes(size)
+        + pixels * target_texel_bytes()
+        + std::mem::size_of::<PpllCounters>() as u64
+}
+
+/// Bytes a pixel of the transmittance and tail targets take.
+fn target_texel_bytes() -> u64 {
+    [TRANSMITTANCE_FORMAT, TAIL_FORMAT]
+        .iter()
+        .map(|f| u64::from(f.block_copy_size(None).unwrap_or(0)))
+        .sum()
 }
 
 /// Bytes of the falloffs: one word a pair of pixels.
@@ -132,9 +144,18 @@ impl ShortcutBuffers {
         })
     }
 
-    /// Bytes of the layers, the per-pixel words, the tail targets and the counters.
+    /// Bytes of the layers, the per-pixel words, the tail targets and the counters, as
+    /// allocated (the figure `shortcut_bytes` predicts).
     pub(crate) fn bytes(&self) -> u64 {
-        shortcut_bytes(self.size, self.k)
+        let buffers = [
+            &self.keys,
+            &self.colors,
+            &self.counters,
+            &self.far,
+            &self.falloff,
+        ];
+        let pixels = u64::from(self.size[0]) * u64::from(self.size[1]);
+        buffers.iter().map(|b| b.size()).sum::<u64>() + pixels * target_texel_bytes()
     }
 
     /// Empty every layer and zero the counters (start of the depth pass).
@@ -199,9 +220,11 @@ mod tests {
             assert!(mib(k) <= 64.0, "k = {k}: {} MiB", mib(k));
         }
         assert!(mib(4) < mib(8));
+        // Per pixel: k keys and k colors (4 bytes each), the k-th key (4), half a falloff word
+        // (2), an R16Float transmittance (2) and an Rgba16Float tail (8); 16 bytes of counters.
         assert_eq!(
             shortcut_bytes([1280, 720], 8),
-            1280 * 720 * (8 * 8 + 14) + 16
+            1280 * 720 * (8 * 8 + 4 + 2 + 2 + 8) + 16
         );
     }
 }

@@ -59,24 +59,22 @@ struct ShadeOut {
     @location(1) tail: vec4<f32>,
 }
 
-// A tail fragment: its opacity for the transmittance and, if the roulette picks it, its color
-// weighted by how much of it the falloff from the k-th depth estimates shows through, over the
-// chance it was picked (`common/shortcut_keys.wgsl`; none when the pixel has no falloff: the
-// resolve then gives the tail the k-th's color). CPU twin: `tress_shading::shortcut_tail_weight`.
-fn tail_fragment(in: StrandVarying, alpha: f32, p: u32, far: u32) -> ShadeOut {
-    var out: ShadeOut;
-    out.transmittance = vec4<f32>(alpha, 0.0, 0.0, 0.0);
-    out.tail = vec4<f32>(0.0);
+// The weight a tail fragment adds to the tail's mean color (0: not picked): its color weighted by
+// how much of it the falloff from the k-th depth estimates shows through, over the chance the
+// roulette picked it (`common/shortcut_keys.wgsl`; none when the pixel has no falloff: the
+// resolve then gives the tail the k-th's color). The roulette's number is the strand's, so the
+// fragments of one primitive, shaded side by side, are picked or passed over together. CPU twin:
+// `tress_shading::shortcut_tail_weight`.
+fn tail_weight(in: StrandVarying, alpha: f32, p: u32, far: u32) -> f32 {
     let falloff = tail_falloff(p);
     let z = clamp(in.position.z, 0.0, 1.0);
     let factor = exp(-max(z - shortcut_depth(far), 0.0) * falloff);
     let pick = min(1.0, TAIL_PICK * factor);
-    let u = f32(hash_u32(bitcast<u32>(z) ^ hash_u32(bitcast<u32>(alpha))) >> 8u) / 16777216.0;
+    let u = f32(hash_u32(in.strand ^ TAIL_SALT) >> 8u) / 16777216.0;
     if falloff > 0.0 && u < pick {
-        let w = alpha * factor / pick;
-        out.tail = vec4<f32>(shade_strand(in, camera, params) * w, w);
+        return alpha * factor / pick;
     }
-    return out;
+    return 0.0;
 }
 
 @fragment
@@ -88,19 +86,29 @@ fn fs_main(in: StrandVarying) -> ShadeOut {
     let p = strand_pixel_index(in, params);
     let key = shortcut_key(in.position.z);
     let far = shortcut_far[p];
-    // Farther than the pixel's k-th nearest: the tail, told by one load.
-    if key < far {
-        return tail_fragment(in, alpha, p, far);
+    // Farther than the pixel's k-th nearest (told by one load), or a tie beyond k: the tail.
+    var layer = MAX_SHORTCUT_K;
+    if key >= far {
+        layer = claim_layer(p, key, alpha);
     }
-    let layer = claim_layer(p, key, alpha);
-    if layer < MAX_SHORTCUT_K {
-        shortcut_colors[layer * shortcut_pixels(params) + p] = pack_rgb9e5(shade_strand(in, camera, params));
-        // Blended as `dst * (1 - 0)` and `dst + 0`: the near fragments leave the tail alone.
-        var out: ShadeOut;
-        out.transmittance = vec4<f32>(0.0);
-        out.tail = vec4<f32>(0.0);
-        return out;
+    var out: ShadeOut;
+    out.transmittance = vec4<f32>(0.0);
+    out.tail = vec4<f32>(0.0);
+    var w = 0.0;
+    if layer == MAX_SHORTCUT_K {
+        out.transmittance = vec4<f32>(alpha, 0.0, 0.0, 0.0);
+        w = tail_weight(in, alpha, p, far);
     }
-    // A tie beyond k: a tail fragment at the k-th depth.
-    return tail_fragment(in, alpha, p, far);
+    // One shading call for the claimed and the picked fragments, so a SIMD group holding both
+    // shades once.
+    if layer < MAX_SHORTCUT_K || w > 0.0 {
+        let color = shade_strand(in, camera, params);
+        if layer < MAX_SHORTCUT_K {
+            // Blended as `dst * (1 - 0)` and `dst + 0`: the near fragments leave the tail alone.
+            shortcut_colors[layer * shortcut_pixels(params) + p] = pack_rgb9e5(color);
+        } else {
+            out.tail = vec4<f32>(color * w, w);
+        }
+    }
+    return out;
 }

@@ -13,6 +13,8 @@ const KEY_MAX: u32 = 0x7fffffffu;
 // `tress_shading::SHORTCUT_TAIL_PICK`).
 const TAIL_SPACINGS: f32 = 5.0;
 const TAIL_PICK: f32 = 1.0;
+// Salts the strand index for the roulette's number (mirrored by `tress_shading::SHORTCUT_TAIL_SALT`).
+const TAIL_SALT: u32 = 0x9e3779b9u;
 
 // The top 16 bits of a non-negative f32, rounded to nearest (a bfloat16: 8 bits of mantissa),
 // as the falloffs are kept (mirrored by `tress_shading::shortcut_tail_falloff`).
