@@ -55,8 +55,8 @@ impl PreparedScene {
                 indices: m.indices,
             }),
             HeadSource::Obj(path) => Some(read_obj_mesh(&path)?),
-            HeadSource::Generated(head) => {
-                let m = head.mesh(64);
+            HeadSource::Generated(head, shape) => {
+                let m = shape.mesh(&head, 64);
                 Some(HeadMesh {
                     positions: m.positions,
                     normals: m.normals,

@@ -519,7 +519,8 @@ mod follow_radius {
 
 /// `[head]`: the head mesh drawn under the hair.
 ///
-/// - nothing given: the generated ellipsoid head;
+/// - nothing given: the generated head: the ellipsoid with a face and a neck for head hair, the
+///   bare ellipsoid for fur (`shape` chooses: `"face"` or `"ellipsoid"`);
 /// - `obj = "path"`: a Wavefront OBJ mesh (relative to the scene file's folder);
 /// - `generated = false` (and no `obj`): no head.
 ///
@@ -542,6 +543,10 @@ pub struct HeadSpec {
     /// Semi-axes of the generated head (positive).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub radii: Option<Vec3>,
+    /// What the generated head is drawn as: `"face"` (the ellipsoid with a face and a neck) or
+    /// `"ellipsoid"`; default: the first generated hair entry's ([`tress_hair::generate::shape_for`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape: Option<String>,
 }
 
 impl HeadSpec {
@@ -554,6 +559,11 @@ impl HeadSpec {
         }
         if let Some(c) = self.center {
             finite3("head.center", c)?;
+        }
+        if let Some(shape) = &self.shape {
+            shape
+                .parse::<tress_hair::generate::HeadShape>()
+                .map_err(|e| SceneError::invalid("head.shape", e.to_string()))?;
         }
         if let Some(r) = self.radii
             && !(r.is_finite() && r.min_element() > 0.0)

@@ -8,7 +8,7 @@ use glam::Vec3;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use toml::de::{DeTable, ValueDeserializer};
-use tress_hair::generate::{self, Head, Style, TriMesh};
+use tress_hair::generate::{self, Head, HeadShape, Style, TriMesh};
 use tress_hair::{HairAsset, HairError, formats};
 
 use crate::SceneError;
@@ -119,8 +119,8 @@ pub enum HeadSource {
     /// A mesh file at this path (resolved against the scene's folder): OBJ, glTF or USD, read
     /// with [`tress_hair::formats::read_mesh`].
     Obj(PathBuf),
-    /// The generated ellipsoid.
-    Generated(Head),
+    /// The generated head: the ellipsoid and what it is drawn as.
+    Generated(Head, HeadShape),
 }
 
 impl Scene {
@@ -267,8 +267,8 @@ impl Scene {
         self.base_dir.join(path)
     }
 
-    /// What to draw as the head: the OBJ file, the generated ellipsoid (with the centre and radii
-    /// of `[head]` or, absent, of the first generated hair entry's style), or nothing.
+    /// What to draw as the head: the OBJ file, the generated head (with the centre, radii and
+    /// shape of `[head]` or, absent, of the first generated hair entry's style), or nothing.
     pub fn head_source(&self) -> HeadSource {
         if let Some(obj) = &self.head.obj {
             return HeadSource::Obj(self.resolve(obj));
@@ -276,17 +276,24 @@ impl Scene {
         if self.head.generated == Some(false) {
             return HeadSource::None;
         }
-        let base = self
+        let style = self
             .hair
             .iter()
-            .filter_map(|h| h.generator.as_ref()?.style.parse::<Style>().ok())
-            .map(generate::head_for)
-            .next()
-            .unwrap_or_default();
-        HeadSource::Generated(Head {
-            center: self.head.center.unwrap_or(base.center),
-            radii: self.head.radii.unwrap_or(base.radii),
-        })
+            .find_map(|h| h.generator.as_ref()?.style.parse::<Style>().ok());
+        let base = style.map(generate::head_for).unwrap_or_default();
+        let shape = self
+            .head
+            .shape
+            .as_deref()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| style.map(generate::shape_for).unwrap_or_default());
+        HeadSource::Generated(
+            Head {
+                center: self.head.center.unwrap_or(base.center),
+                radii: self.head.radii.unwrap_or(base.radii),
+            },
+            shape,
+        )
     }
 
     /// Read or generate every `[[hair]]` entry, in order: the files (merged) or the generator,

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 use serde::Deserialize;
-use tress_hair::generate::{Head, Style, head_for};
+use tress_hair::generate::{Head, HeadShape, Style, head_for};
 
 use crate::*;
 
@@ -376,20 +376,35 @@ fn transform_rotates_about_x_then_y_then_z() {
 fn head_source_follows_the_head_table() {
     assert_eq!(
         Scene::default().head_source(),
-        HeadSource::Generated(Head::default())
+        HeadSource::Generated(Head::default(), HeadShape::Face)
     );
     let fur = parse("[[hair]]\ngenerator = { style = \"fur\" }\n").unwrap();
     assert_eq!(
         fur.head_source(),
-        HeadSource::Generated(head_for(Style::Fur))
+        HeadSource::Generated(head_for(Style::Fur), HeadShape::Ellipsoid)
     );
     let sized = parse("[head]\nradii = [1, 2, 3]\n").unwrap();
-    let HeadSource::Generated(h) = sized.head_source() else {
+    let HeadSource::Generated(h, _) = sized.head_source() else {
         panic!()
     };
     assert_eq!(
         (h.center, h.radii),
         (Head::default().center, Vec3::new(1.0, 2.0, 3.0))
+    );
+    // `shape` overrides the style's; an unknown one is an error naming the key.
+    let bare =
+        parse("[[hair]]\ngenerator = { style = \"straight\" }\n[head]\nshape = \"ellipsoid\"\n")
+            .unwrap();
+    assert!(matches!(
+        bare.head_source(),
+        HeadSource::Generated(_, HeadShape::Ellipsoid)
+    ));
+    let err = parse("[head]\nshape = \"sphere\"\n")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("head.shape") && err.contains("sphere"),
+        "{err}"
     );
     let obj = parse("[head]\nobj = \"meshes/head.obj\"\n").unwrap();
     assert_eq!(

@@ -81,7 +81,7 @@ fn every_scene_loads_and_frames_its_hair() {
             );
         }
         assert!(
-            matches!(scene.head_source(), HeadSource::Generated(_)),
+            matches!(scene.head_source(), HeadSource::Generated(..)),
             "{}",
             path.display()
         );

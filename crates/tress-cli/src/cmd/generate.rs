@@ -74,7 +74,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let gen_ms = start.elapsed().as_secs_f64() * 1e3;
     tress_hair::formats::write_path(&args.output, &hair)?;
     if let Some(obj) = &args.head {
-        let mesh = generate::head_for(args.style).mesh(48);
+        let mesh = generate::shape_for(args.style).mesh(&generate::head_for(args.style), 48);
         std::fs::write(obj, mesh.to_obj()).with_context(|| format!("{}", obj.display()))?;
     }
     eprintln!(

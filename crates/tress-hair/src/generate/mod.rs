@@ -33,6 +33,7 @@
 //! strand's UV is its scalp coordinate ([`Head::scalp_point`]) or, for fur, its body coordinate
 //! ([`Head::body_point`]).
 
+mod face;
 mod head;
 mod styles;
 #[cfg(test)]
@@ -44,6 +45,7 @@ use std::str::FromStr;
 use glam::Vec3;
 use rayon::prelude::*;
 
+pub use face::{HeadShape, face_mesh};
 pub use head::{Head, ScalpPoint, TriMesh};
 
 use crate::ops::MAX_VERTICES;
@@ -262,6 +264,15 @@ pub fn head_for(style: Style) -> Head {
             radii: Vec3::new(12.0, 10.0, 20.0),
         },
         _ => Head::default(),
+    }
+}
+
+/// What a style's head is drawn as: the bare ellipsoid for fur, a face and a neck on it for
+/// head hair.
+pub fn shape_for(style: Style) -> HeadShape {
+    match style {
+        Style::Fur => HeadShape::Ellipsoid,
+        _ => HeadShape::Face,
     }
 }
 

@@ -203,10 +203,24 @@ impl Grower {
         }
     }
 
-    /// Keep every vertex but the root outside the head (or body).
+    /// Keep every vertex but the root outside the head (or body), far enough that the straight
+    /// segments between them stay outside too: a chord of length `L` over a surface of radius of
+    /// curvature `R` dips `L² / (8 R)` below its ends, and the first one starts at the root, so
+    /// the vertices keep `L² / (3 R)` above the surface (`L² / (4 R)` with a margin for the
+    /// ellipsoid not being a sphere; `R` its tightest radius of
+    /// curvature, `L` the strand's longest segment). Without it a strand of few vertices runs
+    /// through the head over the scalp, and the head hides it.
     pub(super) fn collide(&self, out: &mut [Vec3]) {
+        let longest = out
+            .windows(2)
+            .map(|w| w[0].distance(w[1]))
+            .fold(0.0, f32::max);
+        let r = self.head.radii;
+        let tightest = r.min_element() * r.min_element() / r.max_element();
+        let clearance = longest * longest / (3.0 * tightest);
+        let margin = MARGIN + clearance / r.min_element();
         for p in &mut out[1..] {
-            *p = self.head.push_out(*p, MARGIN);
+            *p = self.head.push_out(*p, margin);
         }
     }
 

@@ -113,6 +113,27 @@ fn strands_stay_outside_the_head() {
 }
 
 #[test]
+fn segments_stay_outside_the_head_too() {
+    // The paper's ponytail has 13 vertices over about 50 units: segments of several units,
+    // whose chords over the scalp would dip into the head (and be hidden by it) if only the
+    // vertices were kept out. Sample each segment and check it stays outside.
+    for style in Style::ALL {
+        let h = generate(style, &small(style, 1000)).unwrap();
+        let head = head_for(style);
+        let mut inside = 0;
+        for s in h.strands() {
+            for w in s.windows(2) {
+                inside += (1..8)
+                    .map(|k| w[0].lerp(w[1], k as f32 / 8.0))
+                    .filter(|&p| head.level(p) < 1.0 - 1e-4)
+                    .count();
+            }
+        }
+        assert_eq!(inside, 0, "{style}: points of segments inside the head");
+    }
+}
+
+#[test]
 fn hanging_hair_falls_and_leaves_the_face_free() {
     for style in [Style::Straight, Style::Wavy, Style::Curly] {
         let h = generate(style, &small(style, 2000)).unwrap();

@@ -340,14 +340,14 @@ pub fn load_patches(scene: &Scene, prepared: &PreparedScene) -> Result<PatchScen
     let settings = patch_settings(scene)?;
     let source = patch_source(scene)?;
     let head_center = match scene.head_source() {
-        HeadSource::Generated(h) => Some(h.center),
+        HeadSource::Generated(h, _) => Some(h.center),
         _ => prepared.head.as_ref().map(|h| h.bounding_sphere().0),
     };
     let mut mesh = match &source {
         PatchSource::Obj(path) => PatchMesh::read_obj(path).map_err(hair_error)?,
         PatchSource::Generated => {
             let head = match scene.head_source() {
-                HeadSource::Generated(h) => h,
+                HeadSource::Generated(h, _) => h,
                 _ => Head::default(),
             };
             generate_patches(&generator_params(&t.generator, head)).map_err(hair_error)?
@@ -471,7 +471,7 @@ mod tests {
         assert_eq!(p.mesh.component_count(), 16);
         assert!(p.ao_bake_seconds.is_some());
         assert!(p.mesh.ao().iter().any(|&a| a < 1.0));
-        let HeadSource::Generated(head) = scene.head_source() else {
+        let HeadSource::Generated(head, _) = scene.head_source() else {
             panic!("generated head expected");
         };
         assert_eq!(p.sort_center, head.center);

@@ -334,7 +334,7 @@ pub fn load_clusters(
         }
         ClusterSource::Generate(style) => {
             let head = match scene.head_source() {
-                HeadSource::Generated(h) => h,
+                HeadSource::Generated(h, _) => h,
                 _ => Head::default(),
             };
             generate_clusters(&head, &style)

@@ -135,9 +135,9 @@ impl SceneGeometry {
         let head = match scene.head_source() {
             HeadSource::None => None,
             HeadSource::Obj(path) => Some(TriMesh::read_obj(&path)?),
-            HeadSource::Generated(head) => {
+            HeadSource::Generated(head, shape) => {
                 head.validate()?;
-                Some(head.mesh(HEAD_SUBDIVISIONS))
+                Some(shape.mesh(&head, HEAD_SUBDIVISIONS))
             }
         };
         Ok(SceneGeometry { hair, head })
