@@ -71,6 +71,15 @@ impl PreparedScene {
         })
     }
 
+    /// These hair and head with the settings of `scene` (after [`frame_bounds`] changed them).
+    pub fn reload_settings(self, scene: &Scene) -> Result<PreparedScene, RenderError> {
+        Ok(PreparedScene {
+            hair: self.hair,
+            head: self.head,
+            ..Self::load_settings(scene)?
+        })
+    }
+
     /// The scene's lights, material, background and technique settings, without loading hair
     /// or head (`hair` and `head` are `None`). Errors name the key.
     pub fn load_settings(scene: &Scene) -> Result<PreparedScene, RenderError> {
@@ -144,16 +153,87 @@ pub fn framing_direction(extent: Vec3) -> Vec3 {
     }
 }
 
+/// The hair's unit against the centimetre-like units every world-unit default assumes: the
+/// power of ten nearest `diagonal / 50` of the bounds (a head of hair spans about 50 cm), so 1
+/// for an asset in centimetres, 0.01 in metres, 10 in millimetres.
+pub fn unit_scale(min: Vec3, max: Vec3) -> f32 {
+    let diagonal = (max - min).length();
+    if !(diagonal.is_finite() && diagonal > 0.0) {
+        return 1.0;
+    }
+    10f32.powi((diagonal / 50.0).log10().round().clamp(-6.0, 6.0) as i32)
+}
+
+/// The technique settings given in world units, with their defaults and the power of the unit
+/// they scale with (`shadow_r` counts strands per unit length).
+fn world_unit_defaults() -> [(&'static str, f32, i32); 7] {
+    let strands = StrandSettings::default();
+    let volume = VolumeSettings::default();
+    let hybrid = HybridSettings::default();
+    [
+        ("strands.shadow_r", strands.shadow_r, -1),
+        ("strands.shadow_bias", strands.shadow_bias, 1),
+        ("volume.strand_width", volume.strand_width, 1),
+        ("volume.ao_radius", volume.ao_radius, 1),
+        ("hybrid.near", hybrid.near, 1),
+        ("hybrid.far", hybrid.far, 1),
+        (
+            "satf.shadow_bias",
+            crate::satf::SatfSettings::default().shadow_bias,
+            1,
+        ),
+    ]
+}
+
+/// Give every world-unit setting the scene leaves at its default ([`world_unit_defaults`]) its
+/// default times `scale` (to its power): the depth bias, shadow density, AO radius and LOD
+/// distances of an asset in metres are those of the same asset in centimetres.
+pub fn scale_world_defaults(scene: &mut Scene, scale: f32) {
+    if scale == 1.0 {
+        return;
+    }
+    for (key, default, power) in world_unit_defaults() {
+        let (table, name) = key.split_once('.').unwrap_or((key, key));
+        let given = scene
+            .technique_table(table)
+            .is_some_and(|t| t.contains_key(name));
+        if !given {
+            let value = f64::from(default) * f64::from(scale).powi(power);
+            // A number the TOML parser reads back: the override cannot fail.
+            let _ = scene.apply_override(&format!("{key}={value:e}"));
+        }
+    }
+}
+
 /// A camera framing `bounds` (min, max) from a three-quarter view across the box's largest
-/// extents ([`framing_direction`]), with the near and far planes around it: what
-/// `tress render hair-file` uses when no scene gives a camera.
+/// extents ([`framing_direction`]), with the near and far planes around it, and the world-unit
+/// defaults fitted to the asset's unit ([`unit_scale`], [`scale_world_defaults`]): what
+/// `tress render hair-file` uses when no scene gives a camera. Settings loaded before the call
+/// are reloaded with [`PreparedScene::reload_settings`].
 pub fn frame_bounds(scene: &mut Scene, min: Vec3, max: Vec3) {
+    scale_world_defaults(scene, unit_scale(min, max));
     let center = (min + max) * 0.5;
     let radius = ((max - min).length() * 0.5).max(1e-3);
-    let fov = scene.camera.fov_y_deg.to_radians();
-    let aspect = scene.output.aspect().min(1.0);
-    let distance = radius / ((fov * 0.5).tan() * aspect).atan().sin() * 1.05;
     let dir = framing_direction(max - min);
+    // The nearest distance at which every corner of the box projects inside the frame with a
+    // 5% margin on both axes (a bounding sphere would leave a tall, thin asset small in a
+    // portrait frame): a corner at `r` from the centre lies `d - r·dir` deep and must have
+    // `|r·axis| · 1.05 <= depth · tan(half fov)` on each screen axis.
+    let tan_y = (scene.camera.fov_y_deg.to_radians() * 0.5).tan();
+    let tan_x = tan_y * scene.output.aspect();
+    let right = Vec3::Y.cross(dir).normalize_or(Vec3::X);
+    let up = dir.cross(right);
+    let mut distance = radius * 1e-2;
+    for i in 0..8 {
+        let corner = Vec3::select(
+            glam::BVec3::new(i & 1 == 0, i & 2 == 0, i & 4 == 0),
+            min,
+            max,
+        );
+        let r = corner - center;
+        let fit = (r.dot(right).abs() / tan_x).max(r.dot(up).abs() / tan_y) * 1.05;
+        distance = distance.max(r.dot(dir) + fit);
+    }
     scene.camera.eye = center + dir * distance;
     scene.camera.target = center;
     scene.camera.up = Vec3::Y;
@@ -437,6 +517,37 @@ mod tests {
     }
 
     #[test]
+    fn world_unit_defaults_follow_the_assets_unit() {
+        let head = (Vec3::new(-12.0, -30.0, -12.0), Vec3::new(12.0, 12.0, 12.0));
+        assert_eq!(unit_scale(head.0, head.1), 1.0);
+        assert_eq!(unit_scale(head.0 * 0.01, head.1 * 0.01), 0.01);
+        assert_eq!(unit_scale(head.0 * 10.0, head.1 * 10.0), 10.0);
+        assert_eq!(unit_scale(Vec3::ZERO, Vec3::ZERO), 1.0);
+        // The TressFX 4 mohawk, in metres.
+        let mohawk = (Vec3::new(-0.105, 0.8, -0.45), Vec3::new(0.105, 1.41, 0.45));
+        assert_eq!(unit_scale(mohawk.0, mohawk.1), 0.01);
+        // A key the scene gives keeps its value; the others scale with their unit's power.
+        let mut scene = Scene::from_str("[strands]\nshadow_bias = 0.2\n", ".").unwrap();
+        frame_bounds(&mut scene, mohawk.0, mohawk.1);
+        let p = PreparedScene::load_settings(&scene).unwrap();
+        let d = (
+            StrandSettings::default(),
+            VolumeSettings::default(),
+            HybridSettings::default(),
+        );
+        assert_eq!(p.strands.shadow_bias, 0.2);
+        assert!((p.strands.shadow_r - d.0.shadow_r * 100.0).abs() < 1e-3);
+        assert!((p.volume.ao_radius - d.1.ao_radius * 0.01).abs() < 1e-7);
+        assert!((p.volume.strand_width - d.1.strand_width * 0.01).abs() < 1e-9);
+        assert!((p.hybrid.near - d.2.near * 0.01).abs() < 1e-5);
+        assert!((p.hybrid.far - d.2.far * 0.01).abs() < 1e-5);
+        // Centimetres change nothing.
+        let mut cm = Scene::from_str("", ".").unwrap();
+        frame_bounds(&mut cm, head.0, head.1);
+        assert!(cm.technique_table("strands").is_none_or(|t| t.is_empty()));
+    }
+
+    #[test]
     fn framing_puts_the_bounds_inside_the_view() {
         let mut scene = Scene::from_str("", ".").unwrap();
         let (min, max) = (Vec3::new(-3.0, -10.0, -2.0), Vec3::new(5.0, 4.0, 6.0));
@@ -492,8 +603,10 @@ mod tests {
         let distance = (scene.camera.eye - scene.camera.target).length();
         front.camera.eye = scene.camera.target + FRONT_VIEW.normalize() * distance;
         let from_front = screen_rect_area(&front, min, max);
+        // 1.28x at the distance that fits the box's corners (1.3x and more from the farther
+        // distance a bounding sphere gave).
         assert!(
-            framed > 1.3 * from_front,
+            framed > 1.2 * from_front,
             "framed {framed} vs front {from_front}"
         );
         // A head of hair about as wide as deep keeps the front view.

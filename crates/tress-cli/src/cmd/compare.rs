@@ -237,17 +237,23 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let prepared = PreparedScene::load(&scene);
     pb.finish_and_clear();
     let prepared = prepared?;
-    let Some(asset) = &prepared.hair else {
+    let Some(bounds) = prepared.hair.as_ref().map(|h| h.bounds()) else {
         bail!("the scene has no hair to compare");
     };
-    if auto_frame {
-        let b = asset.bounds();
-        frame_bounds(&mut scene, b.min, b.max);
+    let prepared = if auto_frame {
+        frame_bounds(&mut scene, bounds.min, bounds.max);
         scene.apply_overrides(&args.sets)?;
-    }
+        prepared.reload_settings(&scene)?
+    } else {
+        prepared
+    };
     let size = [scene.output.width, scene.output.height];
     let ctx = GpuContext::headless()?;
     let renderer = super::animate::renderer(&ctx, &scene, &prepared)?;
+    let asset = prepared
+        .hair
+        .as_ref()
+        .context("the scene has no hair to compare")?;
     let hair = Some(renderer.upload_hair(&ctx, asset)?);
     let head = prepared
         .head

@@ -109,11 +109,20 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let geometry = SceneGeometry::load(&scene);
     pb.finish_and_clear();
     let geometry = geometry?;
+    let mut settings = settings;
     if let (true, Some(h)) = (auto_frame, &geometry.hair) {
         let b = h.bounds();
         frame_bounds(&mut scene, b.min, b.max);
         // The command line's --set still wins over the automatic framing.
         scene.apply_overrides(&scene_sets)?;
+        // The AO radius is in world units too (`frame_bounds` fits the scene's).
+        let given = args
+            .sets
+            .iter()
+            .any(|s| s.trim_start().starts_with("trace.ao_radius"));
+        if !given && settings.ao_radius.is_finite() {
+            settings.ao_radius *= tress_render::scene_setup::unit_scale(b.min, b.max);
+        }
     }
 
     let pb = progress::spinner("building the BVH");

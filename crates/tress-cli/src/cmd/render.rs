@@ -303,12 +303,13 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let pb = progress::spinner("loading hair");
     let prepared = PreparedScene::load(&scene);
     pb.finish_and_clear();
-    let prepared = prepared?;
+    let mut prepared = prepared?;
     if let (true, Some(h)) = (auto_frame, &prepared.hair) {
         let b = h.bounds();
         frame_bounds(&mut scene, b.min, b.max);
         // The command line's --set still wins over the automatic framing.
         scene.apply_overrides(&sets)?;
+        prepared = prepared.reload_settings(&scene)?;
     }
     let patches = if scene.technique == "patches" {
         let pb = progress::spinner("building patches");

@@ -116,6 +116,11 @@ impl GpuTimer {
         begin: bool,
         end: bool,
     ) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        // A pass between the first and the last of a timed run writes nothing (wgpu rejects
+        // timestamp writes with neither index: a scene with three lights failed every frame).
+        if !(begin || end) {
+            return None;
+        }
         let i = self.index(name)?;
         let (set, _) = self.queries.as_ref()?;
         if end {
@@ -135,6 +140,9 @@ impl GpuTimer {
         begin: bool,
         end: bool,
     ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        if !(begin || end) {
+            return None;
+        }
         let i = self.index(name)?;
         let (set, _) = self.queries.as_ref()?;
         if end {

@@ -180,11 +180,12 @@ fn load_scene(
 ) -> Result<(Scene, PreparedScene), RenderError> {
     scene.apply_overrides(overrides).map_err(invalid)?;
     technique_name(&scene.technique)?;
-    let prepared = PreparedScene::load(&scene)?;
+    let mut prepared = PreparedScene::load(&scene)?;
     if let (true, Some(h)) = (auto_frame, &prepared.hair) {
         let b = h.bounds();
         frame_bounds(&mut scene, b.min, b.max);
         scene.apply_overrides(overrides).map_err(invalid)?;
+        prepared = prepared.reload_settings(&scene)?;
     }
     Ok((scene, prepared))
 }

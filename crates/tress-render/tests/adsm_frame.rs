@@ -1,0 +1,132 @@
+//! ADSM at frame level (Jansson 2019 §3.4): an occluding strand between light `i` (each of
+//! lights 0–3, so each of the four shadow maps) and an opaque receiving strand; the receiver's
+//! pixels equal `ambient · base + KK(t, l, v) · L · (1 - α)^(max(0, d - bias) · r)`, `d` the
+//! world distance from the occluder to the receiver along the light (the CPU twins'
+//! Kajiya-Kay and ADSM visibility are the model). With three lights or more the middle shadow
+//! passes write no timestamps (wgpu rejected the frames before: `GpuTimer::render_writes`).
+
+mod common;
+
+use glam::Vec3;
+use tress_hair::HairAsset;
+use tress_render::strands::ThicknessFade;
+use tress_render::{
+    COLOR_FORMAT, DirectionalLight, FrameInputs, Material, OffscreenTargets, Renderer,
+    StrandSettings, TargetFormats, read_texture,
+};
+use tress_shading::{KajiyaKay, adsm_visibility, kajiya_kay};
+
+const SIZE: u32 = 64;
+/// World units a pixel under `common::ortho_camera` (2 units over `SIZE`).
+const PIXEL: f32 = 2.0 / SIZE as f32;
+const RECEIVER: Vec3 = Vec3::new(0.0, -0.4, 0.0);
+const OCCLUDER: Vec3 = Vec3::new(0.0, 0.4, 1.0);
+const BASE: Vec3 = Vec3::new(0.5, 0.35, 0.2);
+const AMBIENT: f32 = 0.1;
+
+/// Two horizontal strands (along x) through `RECEIVER` (opaque) and `OCCLUDER` (opacity `alpha`,
+/// irrelevant for the shadow: ADSM uses `shadow_alpha`).
+fn strands() -> HairAsset {
+    let positions = [RECEIVER, OCCLUDER]
+        .iter()
+        .flat_map(|c| [*c - Vec3::X * 3.0, *c + Vec3::X * 3.0])
+        .collect();
+    HairAsset::from_counts(positions, &[2, 2])
+        .and_then(|h| h.with_color(vec![BASE; 4]))
+        .expect("asset")
+}
+
+#[test]
+fn the_receiver_gets_the_analytic_adsm_shadow_from_every_light() {
+    let Some(ctx) = common::gpu() else { return };
+    let settings = StrandSettings {
+        width_px: 12.0,
+        alpha: 1.0,
+        coverage: false,
+        thickness_fade: ThicknessFade::Off,
+        shadow_r: 1.5,
+        shadow_alpha: 0.4,
+        shadow_bias: 0.05,
+        // One texel, and the occluder drawn 4 texels wide into the maps: the receiver's texel
+        // lies inside it wherever its centre line falls between texel rows (a 1-texel line
+        // can land in the row next to the one the receiver looks up).
+        pcf_radius: 0,
+        shadow_width_px: 4.0,
+        ..Default::default()
+    };
+    let mut renderer = Renderer::new(&ctx, TargetFormats::default(), settings.clone()).unwrap();
+    let hair = renderer.upload_hair(&ctx, &strands()).unwrap();
+    let targets = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).unwrap();
+    // From the receiver's centre line to the occluder's: the light's direction.
+    let to_light = (OCCLUDER - RECEIVER).normalize();
+    let d = (OCCLUDER - RECEIVER).length();
+    let t = Vec3::X;
+    let v = Vec3::Z;
+    let kk = KajiyaKay {
+        diffuse: BASE,
+        specular: Material::default().primary_color,
+        exponent: Material::default().primary_exponent,
+    };
+    let light = DirectionalLight {
+        direction: -to_light,
+        color: Vec3::new(1.0, 0.9, 0.8),
+        intensity: 0.8,
+    };
+    let visibility = adsm_visibility(
+        d - settings.shadow_bias,
+        settings.shadow_r,
+        settings.shadow_alpha,
+    );
+    assert!(
+        (0.2..0.8).contains(&visibility),
+        "a shadow the test can see: {visibility}"
+    );
+    let lit = kajiya_kay(&kk, t, to_light, v) * light.color * light.intensity;
+    let want = BASE * AMBIENT + lit * visibility;
+    let unshadowed = BASE * AMBIENT + lit;
+    // The receiver's rows (its ribbon is 12 px wide around y = -0.4), away from the edges.
+    let row = ((1.0 - RECEIVER.y) / PIXEL) as u32;
+    for i in 0..4 {
+        // Light i is the one that shines; those before it are black but keep their slots, so
+        // light i's own shadow map is used.
+        let mut lights = vec![
+            DirectionalLight {
+                intensity: 0.0,
+                ..light
+            };
+            i
+        ];
+        lights.push(light);
+        let inputs = FrameInputs {
+            camera: common::ortho_camera(SIZE),
+            lights: &lights,
+            ambient: Vec3::splat(AMBIENT),
+            material: Material {
+                base_color: BASE,
+                ..Material::default()
+            },
+            hair: Some(&hair),
+            head: None,
+            clear: Some(wgpu::Color::BLACK),
+        };
+        renderer.render(&ctx, &targets.targets(), &inputs).unwrap();
+        let img = read_texture(&ctx, &targets.color).unwrap();
+        for x in [8, 32, 56] {
+            for y in [row - 2, row, row + 2] {
+                let got = Vec3::from_slice(&img.get(x, y).expect("in image")[..3]);
+                assert!(
+                    (got - want).abs().max_element() < 0.01,
+                    "light {i} at {x},{y}: {got} vs {want} (unshadowed {unshadowed})"
+                );
+            }
+        }
+        // The occluder itself is lit: nothing lies between it and the light.
+        let occluder_row = ((1.0 - OCCLUDER.y) / PIXEL) as u32;
+        let got = Vec3::from_slice(&img.get(32, occluder_row).expect("in image")[..3]);
+        let open = BASE * AMBIENT + lit;
+        assert!(
+            (got - open).abs().max_element() < 0.01,
+            "light {i}: occluder {got} vs {open}"
+        );
+    }
+}
