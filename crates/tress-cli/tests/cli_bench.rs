@@ -200,7 +200,9 @@ fn quality_scores_every_technique_against_the_reference() {
         if r[4] == "color" && r[3] != "reference" && r[3] != "none" {
             let iou: f64 = r[11].parse().unwrap();
             let stray: f64 = r[12].parse().unwrap();
-            assert!(iou > 0.5 && iou <= 1.0, "{r:?}");
+            // Measured at this size (128x72, a quarter of the demo's strands, 4 spp): 0.77
+            // (strands at 3x) to 0.90 (volume at 1x); a blank frame scores 0.
+            assert!(iou > 0.7 && iou <= 1.0, "{r:?}");
             assert!((0.0..=100.0).contains(&stray), "{r:?}");
             if r[3] == "strands" {
                 assert_eq!(stray, 0.0, "{r:?}");
