@@ -71,6 +71,17 @@ impl PreparedScene {
         })
     }
 
+    /// What a frame clears its color target to: the scene's background, opaque.
+    pub fn clear_color(&self) -> Option<wgpu::Color> {
+        let bg = self.background;
+        Some(wgpu::Color {
+            r: bg.x.into(),
+            g: bg.y.into(),
+            b: bg.z.into(),
+            a: 1.0,
+        })
+    }
+
     /// These hair and head with the settings of `scene` (after [`frame_bounds`] changed them).
     pub fn reload_settings(self, scene: &Scene) -> Result<PreparedScene, RenderError> {
         Ok(PreparedScene {

@@ -22,15 +22,6 @@ fn scene() -> tress_scene::Scene {
     scene
 }
 
-fn clear(bg: Vec3) -> Option<wgpu::Color> {
-    Some(wgpu::Color {
-        r: bg.x.into(),
-        g: bg.y.into(),
-        b: bg.z.into(),
-        a: 1.0,
-    })
-}
-
 fn session_frame(ctx: &GpuContext, technique: &str) -> LinearImage {
     let mut s = Session::new(
         ctx,
@@ -83,7 +74,7 @@ fn session_frames_equal_the_renderers_frames() {
             material: prepared.material,
             hair: Some(&hair),
             head: head.as_ref(),
-            clear: clear(bg),
+            clear: prepared.clear_color(),
         };
         renderer.render(&ctx, &targets.targets(), &inputs).unwrap();
         let direct = read_texture(&ctx, &targets.color).unwrap();
@@ -117,7 +108,7 @@ fn session_frames_equal_the_renderers_frames() {
                 head_color: prepared.material.head_color,
                 patches: Some(&geometry),
                 head: head.as_ref(),
-                clear: clear(bg),
+                clear: prepared.clear_color(),
             },
         )
         .unwrap();

@@ -137,6 +137,17 @@ pub(crate) fn sin_from_cos(c: f32) -> f32 {
     (1.0 - c * c).max(0.0).sqrt()
 }
 
+/// sRGB transfer function (linear to encoded), input clamped to `[0, 1]`: what the GPU's sRGB
+/// targets apply, for the CPU's image writers (`tress-render`'s readback, `tress-trace`).
+pub fn linear_to_srgb(c: f32) -> f32 {
+    let c = c.clamp(0.0, 1.0);
+    if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
 /// WGSL `saturate`: clamp to `[0, 1]`.
 pub(crate) fn saturate(x: f32) -> f32 {
     x.clamp(0.0, 1.0)

@@ -24,7 +24,7 @@ use tress_render::lod::dither_threshold;
 use tress_render::scene_setup::{PreparedScene, frame_bounds};
 use tress_render::{
     COLOR_FORMAT, Camera, FrameInputs, FrameStats, GpuContext, HeadGeometry, LinearImage,
-    OffscreenTargets, Renderer, StrandGeometry, Technique, read_texture, wgpu,
+    OffscreenTargets, Renderer, StrandGeometry, Technique, read_texture,
 };
 use tress_trace::{DisplayImage, metrics};
 
@@ -122,7 +122,6 @@ impl Stage {
         camera: Camera,
         with_hair: bool,
     ) -> Result<FrameStats> {
-        let bg = prepared.background;
         let inputs = FrameInputs {
             camera,
             lights: &prepared.lights,
@@ -130,12 +129,7 @@ impl Stage {
             material: prepared.material,
             hair: self.hair.as_ref().filter(|_| with_hair),
             head: self.head.as_ref(),
-            clear: Some(wgpu::Color {
-                r: bg.x.into(),
-                g: bg.y.into(),
-                b: bg.z.into(),
-                a: 1.0,
-            }),
+            clear: prepared.clear_color(),
         };
         Ok(self
             .renderer

@@ -11,7 +11,7 @@ use tress_render::scene_setup::{PreparedScene, frame_bounds, load_patches};
 use tress_render::{
     COLOR_FORMAT, FrameInputs, FrameStats, GpuContext, HeadGeometry, OffscreenTargets,
     PatchFrameInputs, PatchFrameStats, PatchRenderer, Renderer, TargetFormats, Timings,
-    read_texture, wgpu,
+    read_texture,
 };
 use tress_scene::Scene;
 
@@ -227,17 +227,6 @@ pub(crate) fn upload_head(
         .transpose()?)
 }
 
-/// What a frame clears its color target to: the scene's background, opaque.
-pub(crate) fn clear_color(prepared: &PreparedScene) -> Option<wgpu::Color> {
-    let bg = prepared.background;
-    Some(wgpu::Color {
-        r: bg.x.into(),
-        g: bg.y.into(),
-        b: bg.z.into(),
-        a: 1.0,
-    })
-}
-
 /// Write `image` to `path`: OpenEXR for `.exr` (any case), PNG otherwise.
 pub(crate) fn save(image: &tress_render::LinearImage, path: &Path) -> Result<()> {
     match path.extension() {
@@ -448,7 +437,7 @@ pub(crate) fn frame_inputs<'a>(
         material: prepared.material,
         hair,
         head,
-        clear: clear_color(prepared),
+        clear: prepared.clear_color(),
     }
 }
 
@@ -583,7 +572,7 @@ pub(crate) fn render_patch_frame(
         head_color: prepared.material.head_color,
         patches: Some(&geometry),
         head: head.as_ref(),
-        clear: clear_color(prepared),
+        clear: prepared.clear_color(),
     };
     let stats = renderer.render(ctx, &targets.targets(), &inputs)?;
     let image = read_texture(ctx, &targets.color).context("reading the frame back")?;

@@ -23,9 +23,7 @@ use tress_render::{
 };
 use tress_scene::Scene;
 
-use super::render::{
-    AMBIENT, Report, clear_color, hair_counts, passes, rendering_spinner, save, upload_head,
-};
+use super::render::{AMBIENT, Report, hair_counts, passes, rendering_spinner, save, upload_head};
 use super::satf_bake::database_for_render;
 use crate::progress;
 
@@ -105,7 +103,7 @@ pub(crate) fn run(
             clusters: Some(&geometry),
             database: &db,
             head: head.as_ref(),
-            clear: clear_color(prepared),
+            clear: prepared.clear_color(),
         };
         // The first frame warms up; the second is the one reported.
         renderer.render(ctx, &targets.targets(), &inputs)?;

@@ -69,15 +69,7 @@ impl LinearImage {
     }
 }
 
-/// sRGB transfer function (linear to encoded), input clamped to `[0, 1]`.
-pub fn linear_to_srgb(c: f32) -> f32 {
-    let c = c.clamp(0.0, 1.0);
-    if c <= 0.003_130_8 {
-        c * 12.92
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    }
-}
+pub use tress_shading::linear_to_srgb;
 
 /// sRGB transfer function (encoded to linear).
 pub fn srgb_to_linear(c: f32) -> f32 {

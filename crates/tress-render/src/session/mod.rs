@@ -478,13 +478,7 @@ impl Session {
     ) -> Result<SessionFrame, RenderError> {
         self.prepare(ctx)?;
         let lights = lights.unwrap_or(&self.prepared.lights);
-        let bg = self.prepared.background;
-        let clear = Some(wgpu::Color {
-            r: bg.x.into(),
-            g: bg.y.into(),
-            b: bg.z.into(),
-            a: 1.0,
-        });
+        let clear = self.prepared.clear_color();
         let ambient = Vec3::splat(AMBIENT);
         let head = self.head.as_ref();
         let head_bytes = head.map_or(0, HeadGeometry::bytes);
