@@ -107,6 +107,12 @@ pub struct Renderer {
     timer: GpuTimer,
     ring: ReadbackRing,
     stats_readback: StatsReadback,
+    /// The last material's fibre and its uniform (the dual-scattering table is integrated on
+    /// the CPU once per fibre, only while the strands shade with it).
+    fiber: Option<(
+        tress_shading::fiber::HairFiber,
+        crate::gpu::types::FiberUniform,
+    )>,
     frame: u64,
 }
 
@@ -305,11 +311,17 @@ impl Renderer {
         );
         q.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         q.write_buffer(&self.lights, 0, bytemuck::bytes_of(&lights));
-        q.write_buffer(
-            &self.material,
-            0,
-            bytemuck::bytes_of(&inputs.material.uniform()),
-        );
+        let mut material = inputs.material.uniform();
+        if self.settings.shading == crate::Shading::Marschner {
+            let fiber = inputs.material.fiber;
+            if self.fiber.as_ref().is_none_or(|(f, _)| *f != fiber) {
+                self.fiber = Some((fiber, crate::gpu::types::FiberUniform::new(&fiber)));
+            }
+            if let Some((_, uniform)) = &self.fiber {
+                material.fiber = *uniform;
+            }
+        }
+        q.write_buffer(&self.material, 0, bytemuck::bytes_of(&material));
         q.write_buffer(&self.volume_params, 0, bytemuck::bytes_of(&volume));
 
         let frame = self.frame;

@@ -4,7 +4,9 @@
 use glam::{Mat4, Vec3};
 
 use crate::RenderError;
-use crate::gpu::types::{self, CameraUniform, HairLightingGpu, LightUniform, MaterialUniform};
+use crate::gpu::types::{
+    self, CameraUniform, FiberUniform, HairLightingGpu, LightUniform, MaterialUniform,
+};
 
 /// A camera: view and projection matrices and the viewport they render to.
 ///
@@ -177,6 +179,8 @@ pub struct Material {
     pub secondary_shift: f32,
     /// Head mesh color, linear RGB.
     pub head_color: Vec3,
+    /// The physically based fibre (`strands.shading = "marschner"`).
+    pub fiber: tress_shading::fiber::HairFiber,
 }
 
 impl Default for Material {
@@ -191,6 +195,7 @@ impl Default for Material {
             secondary_exponent: h.secondary_exponent,
             secondary_shift: h.secondary_shift,
             head_color: Vec3::new(0.55, 0.40, 0.33),
+            fiber: tress_shading::fiber::HairFiber::default(),
         }
     }
 }
@@ -214,7 +219,9 @@ impl Material {
                 "material colors and shifts must be finite, exponents positive".into(),
             ));
         }
-        Ok(())
+        self.fiber
+            .validate()
+            .map_err(|e| RenderError::Invalid(format!("material fibre: {e}")))
     }
 
     /// The GPU uniform.
@@ -234,6 +241,7 @@ impl Material {
             _pad0: 0.0,
             head_color: self.head_color.to_array(),
             _pad1: 0.0,
+            fiber: FiberUniform::default(),
         }
     }
 }

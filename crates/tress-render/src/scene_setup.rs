@@ -107,6 +107,7 @@ impl PreparedScene {
             .hair
             .first()
             .map(|h| material(&h.material))
+            .transpose()?
             .unwrap_or_default();
         let strands = strand_settings(scene)?;
         let volume = volume_settings(scene)?;
@@ -252,8 +253,8 @@ pub fn frame_bounds(scene: &mut Scene, min: Vec3, max: Vec3) {
     scene.camera.far = distance + radius * 1.5;
 }
 
-fn material(m: &tress_scene::Material) -> Material {
-    Material {
+fn material(m: &tress_scene::Material) -> Result<Material, RenderError> {
+    Ok(Material {
         base_color: m.base_color,
         primary_color: m.primary_color,
         primary_exponent: m.primary_exponent,
@@ -261,8 +262,9 @@ fn material(m: &tress_scene::Material) -> Material {
         secondary_color: m.secondary_color,
         secondary_exponent: m.secondary_exponent,
         secondary_shift: m.secondary_shift,
+        fiber: m.fiber().map_err(scene_error)?,
         ..Material::default()
-    }
+    })
 }
 
 fn scene_error(e: tress_scene::SceneError) -> RenderError {

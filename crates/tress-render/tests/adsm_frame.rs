@@ -9,12 +9,16 @@ mod common;
 
 use glam::Vec3;
 use tress_hair::HairAsset;
+use tress_render::Shading;
 use tress_render::strands::ThicknessFade;
 use tress_render::{
     COLOR_FORMAT, DirectionalLight, FrameInputs, Material, OffscreenTargets, Renderer,
     StrandSettings, TargetFormats, read_texture,
 };
-use tress_shading::{KajiyaKay, adsm_visibility, kajiya_kay};
+use tress_shading::dual_scattering::{DualScattering, dual_scattering_lighting};
+use tress_shading::fiber::HairFiber;
+use tress_shading::marschner::Marschner;
+use tress_shading::{KajiyaKay, adsm_visibility, kajiya_kay, strands_from_visibility};
 
 const SIZE: u32 = 64;
 /// World units a pixel under `common::ortho_camera` (2 units over `SIZE`).
@@ -36,10 +40,8 @@ fn strands() -> HairAsset {
         .expect("asset")
 }
 
-#[test]
-fn the_receiver_gets_the_analytic_adsm_shadow_from_every_light() {
-    let Some(ctx) = common::gpu() else { return };
-    let settings = StrandSettings {
+fn settings() -> StrandSettings {
+    StrandSettings {
         width_px: 12.0,
         alpha: 1.0,
         coverage: false,
@@ -53,7 +55,13 @@ fn the_receiver_gets_the_analytic_adsm_shadow_from_every_light() {
         pcf_radius: 0,
         shadow_width_px: 4.0,
         ..Default::default()
-    };
+    }
+}
+
+#[test]
+fn the_receiver_gets_the_analytic_adsm_shadow_from_every_light() {
+    let Some(ctx) = common::gpu() else { return };
+    let settings = settings();
     let mut renderer = Renderer::new(&ctx, TargetFormats::default(), settings.clone()).unwrap();
     let hair = renderer.upload_hair(&ctx, &strands()).unwrap();
     let targets = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).unwrap();
@@ -129,4 +137,85 @@ fn the_receiver_gets_the_analytic_adsm_shadow_from_every_light() {
             "light {i}: occluder {got} vs {open}"
         );
     }
+}
+
+/// `strands.shading = "marschner"` in a frame: the receiver's pixels equal the CPU twin's dual
+/// scattering with the strands its ADSM visibility stands for, the occluder's with none in the
+/// way (blond fibre: the transmitted and multiply scattered light shows).
+#[test]
+fn marschner_frames_match_the_cpu_dual_scattering() {
+    let Some(ctx) = common::gpu() else { return };
+    let settings = StrandSettings {
+        shading: Shading::Marschner,
+        ..settings()
+    };
+    let fiber = HairFiber {
+        sigma_a: tress_shading::fiber::sigma_a_from_melanin(0.3, 0.1),
+        ..HairFiber::default()
+    };
+    let mut renderer = Renderer::new(&ctx, TargetFormats::default(), settings.clone()).unwrap();
+    let hair = renderer.upload_hair(&ctx, &strands()).unwrap();
+    let targets = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).unwrap();
+    let to_light = (OCCLUDER - RECEIVER).normalize();
+    let light = DirectionalLight {
+        direction: -to_light,
+        color: Vec3::new(1.0, 0.9, 0.8),
+        intensity: 0.8,
+    };
+    let inputs = FrameInputs {
+        camera: common::ortho_camera(SIZE),
+        lights: &[light],
+        ambient: Vec3::splat(AMBIENT),
+        material: Material {
+            base_color: BASE,
+            fiber,
+            ..Material::default()
+        },
+        hair: Some(&hair),
+        head: None,
+        clear: Some(wgpu::Color::BLACK),
+    };
+    renderer.render(&ctx, &targets.targets(), &inputs).unwrap();
+    let img = read_texture(&ctx, &targets.color).unwrap();
+    let m = Marschner::from_fiber(&fiber);
+    let ds = DualScattering::from_marschner(&m);
+    let radiance = light.color * light.intensity;
+    let d = (OCCLUDER - RECEIVER).length();
+    let direct = adsm_visibility(
+        d - settings.shadow_bias,
+        settings.shadow_r,
+        settings.shadow_alpha,
+    );
+    let n = strands_from_visibility(direct, settings.shadow_alpha);
+    assert!(n > 0.5, "{n} strands in the way");
+    let shade = |strands: f32, direct: f32| {
+        BASE * AMBIENT
+            + dual_scattering_lighting(
+                &m,
+                &ds,
+                Vec3::X,
+                to_light,
+                radiance,
+                Vec3::Z,
+                strands,
+                direct,
+            )
+    };
+    for (centre, want) in [(RECEIVER, shade(n, direct)), (OCCLUDER, shade(0.0, 1.0))] {
+        let row = ((1.0 - centre.y) / PIXEL) as u32;
+        for x in [8, 32, 56] {
+            let got = Vec3::from_slice(&img.get(x, row).expect("in image")[..3]);
+            // RGB9E5 in the PPLL: 9 bits of mantissa.
+            assert!(
+                (got - want).abs().max_element() < 0.01 * want.max_element().max(0.1),
+                "{centre} at {x}: {got} vs {want}"
+            );
+        }
+    }
+    // The shadow matters: lit and shadowed receivers differ clearly.
+    let (shadowed, lit) = (shade(n, direct), shade(0.0, 1.0));
+    assert!(
+        (shadowed - lit).abs().max_element() > 0.2 * lit.max_element(),
+        "shadowed {shadowed} vs lit {lit}"
+    );
 }

@@ -114,8 +114,8 @@ pub use scheuermann::{
     HairLighting, HairSample, hair_lighting, scheuermann_diffuse, shift_tangent, strand_specular,
 };
 pub use shadow::{
-    DepthMap, MAX_PCF_RADIUS, ShadingError, adsm_depth, adsm_pcf, adsm_visibility,
-    strand_visibility,
+    DepthMap, MAX_PCF_RADIUS, MAX_SHADOW_STRANDS, ShadingError, adsm_depth, adsm_pcf,
+    adsm_visibility, strand_visibility, strands_from_visibility,
 };
 pub use shortcut::{
     SHORTCUT_TAIL_PICK, SHORTCUT_TAIL_SALT, SHORTCUT_TAIL_SPACINGS, ShortcutFragment,

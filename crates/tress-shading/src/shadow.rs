@@ -120,6 +120,23 @@ pub fn strand_visibility(n: f32, alpha: f32) -> f32 {
     transmittance.powf(n)
 }
 
+/// The most strands [`strands_from_visibility`] reports (fully shadowed).
+pub const MAX_SHADOW_STRANDS: f32 = 64.0;
+
+/// The strands of opacity `alpha` that let through `visibility` of the light: the inverse of
+/// [`strand_visibility`], clamped to `[0, MAX_SHADOW_STRANDS]` (what dual scattering needs from
+/// a shadow map that stores only a visibility).
+pub fn strands_from_visibility(visibility: f32, alpha: f32) -> f32 {
+    let transmittance = 1.0 - saturate(alpha);
+    if visibility >= 1.0 || transmittance >= 1.0 {
+        return 0.0;
+    }
+    if visibility <= 0.0 || transmittance <= 0.0 {
+        return MAX_SHADOW_STRANDS;
+    }
+    (visibility.ln() / transmittance.ln()).min(MAX_SHADOW_STRANDS)
+}
+
 /// ADSM visibility `(1 - alpha)^(d · r)` for a fragment `d` depth units past the first occluder,
 /// with `r` strands per depth unit (Jansson §3.4; see the module docs for units).
 pub fn adsm_visibility(d: f32, r: f32, alpha: f32) -> f32 {
@@ -159,6 +176,21 @@ pub fn adsm_pcf(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn strands_from_visibility_inverts_strand_visibility() {
+        for alpha in [0.05f32, 0.25, 0.6] {
+            for n in [0.0f32, 0.5, 1.0, 3.0, 17.0] {
+                let back = strands_from_visibility(strand_visibility(n, alpha), alpha);
+                assert!((back - n).abs() < 1e-3 * (1.0 + n), "{alpha} {n}: {back}");
+            }
+        }
+        assert_eq!(strands_from_visibility(1.0, 0.3), 0.0);
+        assert_eq!(strands_from_visibility(0.0, 0.3), MAX_SHADOW_STRANDS);
+        assert_eq!(strands_from_visibility(0.5, 0.0), 0.0);
+        assert_eq!(strands_from_visibility(0.5, 1.0), MAX_SHADOW_STRANDS);
+        assert_eq!(strands_from_visibility(1e-30, 0.3), MAX_SHADOW_STRANDS);
+    }
 
     #[test]
     fn visibility_limits() {

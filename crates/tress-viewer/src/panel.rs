@@ -384,7 +384,7 @@ fn strand_settings(ui: &mut Ui, s: &StrandSettings, form: &mut Form<'_>) {
         ui,
         "strands.shading",
         s.shading.name(),
-        &["kajiya-kay", "scheuermann"],
+        &["kajiya-kay", "scheuermann", "marschner"],
     );
     form.check(ui, "strands.coverage", s.coverage);
     form.choice(

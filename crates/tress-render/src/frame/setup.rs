@@ -100,6 +100,7 @@ impl Renderer {
             timer,
             ring,
             stats_readback: StatsReadback::Wait,
+            fiber: None,
             frame: 0,
         })
     }

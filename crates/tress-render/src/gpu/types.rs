@@ -144,6 +144,56 @@ pub struct HairLightingGpu {
     pub _pad: [f32; 3],
 }
 
+/// `Marschner` and `DualScattering` of `shaders/common/marschner.wgsl` (the material's
+/// `fiber` and `dual`): the physically based fibre of `strands.shading = "marschner"`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct FiberUniform {
+    /// `(σa, η)` and `(β_R, β_TT, β_TRT, α)`.
+    pub marschner: [[f32; 4]; 2],
+    /// The four 16-row tables `a_f`, `a_b`, `Δb`, `σb²`.
+    pub tables: [[f32; 4]; 64],
+    /// `params`, `tt_avg`, `trt_avg`.
+    pub rows: [[f32; 4]; 3],
+}
+
+impl Default for FiberUniform {
+    fn default() -> Self {
+        Zeroable::zeroed()
+    }
+}
+
+impl FiberUniform {
+    /// The lobes and dual-scattering table of `fiber` (the table takes some 20 ms to integrate:
+    /// compute it once per material).
+    pub fn new(fiber: &tress_shading::fiber::HairFiber) -> FiberUniform {
+        let m = tress_shading::marschner::Marschner::from_fiber(fiber);
+        let ds = tress_shading::dual_scattering::DualScattering::from_marschner(&m);
+        let mut tables = [[0.0; 4]; 64];
+        for (row, v) in tables.iter_mut().zip(
+            ds.a_f
+                .iter()
+                .chain(&ds.a_b)
+                .chain(&ds.delta_b)
+                .chain(&ds.sigma_b2),
+        ) {
+            *row = v.to_array();
+        }
+        FiberUniform {
+            marschner: [
+                m.sigma_a.extend(m.eta).to_array(),
+                m.beta.extend(m.alpha).to_array(),
+            ],
+            tables,
+            rows: [
+                ds.params.to_array(),
+                ds.tt_avg.to_array(),
+                ds.trt_avg.to_array(),
+            ],
+        }
+    }
+}
+
 /// `struct Material` in `shaders/common/material.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -158,6 +208,8 @@ pub struct MaterialUniform {
     pub head_color: [f32; 3],
     /// Padding.
     pub _pad1: f32,
+    /// The physically based fibre (zero unless the strands shade with it).
+    pub fiber: FiberUniform,
 }
 
 /// `struct PpllNode` in `shaders/common/ppll.wgsl`: one stored fragment.

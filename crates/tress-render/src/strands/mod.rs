@@ -107,6 +107,10 @@ pub enum Shading {
     KajiyaKay,
     /// Scheuermann's dual shifted highlights, `"scheuermann"`.
     Scheuermann,
+    /// Physically based: Marschner's R, TT and TRT lobes (Karis 2016) with dual scattering
+    /// driven by the strands ADSM counts towards each light, from the material's fibre
+    /// (`[hair.material]` melanin, roughness, tilt, η), `"marschner"`.
+    Marschner,
 }
 
 impl Shading {
@@ -115,6 +119,7 @@ impl Shading {
         match self {
             Shading::KajiyaKay => "kajiya-kay",
             Shading::Scheuermann => "scheuermann",
+            Shading::Marschner => "marschner",
         }
     }
 }
@@ -131,8 +136,9 @@ impl FromStr for Shading {
         match s {
             "kajiya-kay" => Ok(Shading::KajiyaKay),
             "scheuermann" => Ok(Shading::Scheuermann),
+            "marschner" => Ok(Shading::Marschner),
             _ => Err(RenderError::Invalid(format!(
-                "unknown shading `{s}` (expected kajiya-kay or scheuermann)"
+                "unknown shading `{s}` (expected kajiya-kay, scheuermann or marschner)"
             ))),
         }
     }
@@ -308,6 +314,7 @@ impl StrandSettings {
             shading: match self.shading {
                 Shading::KajiyaKay => 0,
                 Shading::Scheuermann => 1,
+                Shading::Marschner => 2,
             },
             coverage: u32::from(self.coverage),
             shadow_r: self.shadow_r,
@@ -403,7 +410,7 @@ mod tests {
 
     #[test]
     fn shading_names_round_trip() {
-        for s in [Shading::KajiyaKay, Shading::Scheuermann] {
+        for s in [Shading::KajiyaKay, Shading::Scheuermann, Shading::Marschner] {
             assert_eq!(s.name().parse::<Shading>().unwrap(), s);
         }
         assert!("phong".parse::<Shading>().is_err());

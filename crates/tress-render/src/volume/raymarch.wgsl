@@ -57,6 +57,18 @@ fn shade_volume(x: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
     for (var i = 0u; i < min(lights.count, MAX_LIGHTS); i = i + 1u) {
         let light = lights.lights[i];
         let l = light.to_light;
+        if volume_params.shading == SHADING_MARSCHNER {
+            // Dual scattering from the strands the volume counts towards the light, with the
+            // voxelized mean tangent.
+            var direct = 1.0;
+            if volume_params.march_shadows != 0u {
+                direct = volume_light_visibility(i, p);
+            }
+            let n = strands_from_visibility(direct, volume_params.shadow_alpha);
+            color = color + dual_scattering_lighting(
+                material.fiber, material.dual, t, l, light_radiance(light), v, n, direct);
+            continue;
+        }
         var c: vec3<f32>;
         if volume_params.shading == SHADING_SCHEUERMANN {
             // The per-strand shift and mask textures average out in a voxel: their means.

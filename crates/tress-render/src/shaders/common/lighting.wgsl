@@ -6,6 +6,7 @@
 #include "common/shading.wgsl"
 #include "common/params.wgsl"
 #include "common/volume.wgsl"
+#include "common/marschner.wgsl"
 
 // Mirrored by `gpu::types::MaterialUniform`.
 struct Material {
@@ -15,6 +16,9 @@ struct Material {
     _pad0: f32,
     head_color: vec3<f32>,
     _pad1: f32,
+    // The physically based fibre of `strands.shading = "marschner"` (zero otherwise).
+    fiber: Marschner,
+    dual: DualScattering,
 }
 
 @group(1) @binding(0) var<uniform> lights: Lights;
@@ -29,6 +33,23 @@ struct Material {
 @group(1) @binding(7) var volume_sampler: sampler;
 @group(1) @binding(8) var<uniform> volume_grid: VolumeGrid;
 @group(1) @binding(9) var<uniform> volume_params: VolumeParams;
+
+// The most strands `strands_from_visibility` reports (fully shadowed; mirrored by
+// `tress_shading::MAX_SHADOW_STRANDS`).
+const MAX_SHADOW_STRANDS: f32 = 64.0;
+
+// The strands of opacity `alpha` that let through `visibility` of the light: the inverse of
+// `(1 - alpha)^n` (CPU twin: `tress_shading::strands_from_visibility`).
+fn strands_from_visibility(visibility: f32, alpha: f32) -> f32 {
+    let transmittance = 1.0 - clamp(alpha, 0.0, 1.0);
+    if visibility >= 1.0 || transmittance >= 1.0 {
+        return 0.0;
+    }
+    if visibility <= 0.0 || transmittance <= 0.0 {
+        return MAX_SHADOW_STRANDS;
+    }
+    return min(log(visibility) / log(transmittance), MAX_SHADOW_STRANDS);
+}
 
 // Volume shadow (§3.4): the visibility (1 - alpha)^n of world point `p` from light `i`, n the
 // strands counted through the volume towards the light times the hit fraction.

@@ -35,6 +35,15 @@ fn shade_strand(in: StrandVarying, camera: Camera, params: StrandParams) -> vec3
     for (var i = 0u; i < min(lights.count, MAX_LIGHTS); i = i + 1u) {
         let light = lights.lights[i];
         let l = light.to_light;
+        if params.shading == SHADING_MARSCHNER {
+            // Dual scattering: the unscattered light is the shadow's visibility, the strands in
+            // the way those the visibility stands for.
+            let direct = shadow_visibility(i, in.world_line, params);
+            let n = strands_from_visibility(direct, params.shadow_alpha);
+            color = color + dual_scattering_lighting(
+                material.fiber, material.dual, t, l, light_radiance(light), v, n, direct);
+            continue;
+        }
         var c: vec3<f32>;
         if params.shading == SHADING_SCHEUERMANN {
             let s = HairSample(t, strand_random(in.strand, 0u), n, strand_random(in.strand, 1u), base, 1.0);
