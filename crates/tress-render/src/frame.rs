@@ -318,7 +318,8 @@ impl Renderer {
                 self.fiber = Some((fiber, crate::gpu::types::FiberUniform::new(&fiber)));
             }
             if let Some((_, uniform)) = &self.fiber {
-                material.fiber = *uniform;
+                material.fiber = uniform.marschner;
+                material.dual = uniform.dual;
             }
         }
         q.write_buffer(&self.material, 0, bytemuck::bytes_of(&material));

@@ -5,7 +5,7 @@ use glam::{Mat4, Vec3};
 
 use crate::RenderError;
 use crate::gpu::types::{
-    self, CameraUniform, FiberUniform, HairLightingGpu, LightUniform, MaterialUniform,
+    self, CameraUniform, DualScatteringGpu, HairLightingGpu, LightUniform, MaterialUniform,
 };
 
 /// A camera: view and projection matrices and the viewport they render to.
@@ -241,7 +241,8 @@ impl Material {
             _pad0: 0.0,
             head_color: self.head_color.to_array(),
             _pad1: 0.0,
-            fiber: FiberUniform::default(),
+            fiber: [[0.0; 4]; 2],
+            dual: DualScatteringGpu::default(),
         }
     }
 }

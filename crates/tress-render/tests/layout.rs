@@ -129,7 +129,13 @@ fn gpu_types_match_wgsl() {
         &m,
         "Material",
         MaterialUniform,
-        [lighting, base_color, _pad0, head_color, _pad1]
+        [lighting, base_color, _pad0, head_color, _pad1, fiber, dual]
+    );
+    check!(
+        &m,
+        "DualScattering",
+        DualScatteringGpu,
+        [a_f, a_b, delta_b, sigma_b2, params, tt_avg, trt_avg]
     );
     check!(&m, "PpllNode", PpllNode, [color, alpha, depth, next]);
     check!(

@@ -146,18 +146,35 @@ pub struct HairLightingGpu {
 
 /// `Marschner` and `DualScattering` of `shaders/common/marschner.wgsl` (the material's
 /// `fiber` and `dual`): the physically based fibre of `strands.shading = "marschner"`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FiberUniform {
-    /// `(σa, η)` and `(β_R, β_TT, β_TRT, α)`.
+    /// `struct Marschner`: `(σa, η)` and `(β_R, β_TT, β_TRT, α)`.
     pub marschner: [[f32; 4]; 2],
-    /// The four 16-row tables `a_f`, `a_b`, `Δb`, `σb²`.
-    pub tables: [[f32; 4]; 64],
-    /// `params`, `tt_avg`, `trt_avg`.
-    pub rows: [[f32; 4]; 3],
+    /// `struct DualScattering`.
+    pub dual: DualScatteringGpu,
 }
 
-impl Default for FiberUniform {
+/// `struct DualScattering` in `shaders/common/marschner.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct DualScatteringGpu {
+    /// The four 16-row tables `a_f`, `a_b`, `Δb`, `σb²`.
+    pub a_f: [[f32; 4]; 16],
+    /// `A_b`.
+    pub a_b: [[f32; 4]; 16],
+    /// `Δb`.
+    pub delta_b: [[f32; 4]; 16],
+    /// `σb²`.
+    pub sigma_b2: [[f32; 4]; 16],
+    /// `(⟨N_R A_R⟩, d_f, d_b, 0)`.
+    pub params: [f32; 4],
+    /// `⟨N_TT A_TT⟩`.
+    pub tt_avg: [f32; 4],
+    /// `⟨N_TRT A_TRT⟩`.
+    pub trt_avg: [f32; 4],
+}
+
+impl Default for DualScatteringGpu {
     fn default() -> Self {
         Zeroable::zeroed()
     }
@@ -169,27 +186,21 @@ impl FiberUniform {
     pub fn new(fiber: &tress_shading::fiber::HairFiber) -> FiberUniform {
         let m = tress_shading::marschner::Marschner::from_fiber(fiber);
         let ds = tress_shading::dual_scattering::DualScattering::from_marschner(&m);
-        let mut tables = [[0.0; 4]; 64];
-        for (row, v) in tables.iter_mut().zip(
-            ds.a_f
-                .iter()
-                .chain(&ds.a_b)
-                .chain(&ds.delta_b)
-                .chain(&ds.sigma_b2),
-        ) {
-            *row = v.to_array();
-        }
+        let rows = |t: &[glam::Vec4; 16]| t.map(|v| v.to_array());
         FiberUniform {
             marschner: [
                 m.sigma_a.extend(m.eta).to_array(),
                 m.beta.extend(m.alpha).to_array(),
             ],
-            tables,
-            rows: [
-                ds.params.to_array(),
-                ds.tt_avg.to_array(),
-                ds.trt_avg.to_array(),
-            ],
+            dual: DualScatteringGpu {
+                a_f: rows(&ds.a_f),
+                a_b: rows(&ds.a_b),
+                delta_b: rows(&ds.delta_b),
+                sigma_b2: rows(&ds.sigma_b2),
+                params: ds.params.to_array(),
+                tt_avg: ds.tt_avg.to_array(),
+                trt_avg: ds.trt_avg.to_array(),
+            },
         }
     }
 }
@@ -208,8 +219,11 @@ pub struct MaterialUniform {
     pub head_color: [f32; 3],
     /// Padding.
     pub _pad1: f32,
-    /// The physically based fibre (zero unless the strands shade with it).
-    pub fiber: FiberUniform,
+    /// The physically based fibre's lobes, `struct Marschner` (zero unless the strands shade
+    /// with it).
+    pub fiber: [[f32; 4]; 2],
+    /// Its dual-scattering table.
+    pub dual: DualScatteringGpu,
 }
 
 /// `struct PpllNode` in `shaders/common/ppll.wgsl`: one stored fragment.
