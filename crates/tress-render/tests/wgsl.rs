@@ -142,3 +142,13 @@ fn shortcut_tail_constants_mirror_the_cpu_twin() {
         f64::from(tress_shading::SHORTCUT_TAIL_SALT)
     );
 }
+
+#[test]
+fn the_shadow_strand_cap_mirrors_the_cpu_twin() {
+    let text = shaders::compose("common/lighting.wgsl").expect("composes");
+    let module = validate("common/lighting.wgsl", &text);
+    assert_eq!(
+        scalar_const(&module, "MAX_SHADOW_STRANDS"),
+        f64::from(tress_shading::MAX_SHADOW_STRANDS)
+    );
+}
