@@ -465,6 +465,38 @@ fn masked_flip(a: &LinearImage, b: &LinearImage, mask: &[bool]) -> f32 {
     sum / n.max(1) as f32
 }
 
+/// Strands and volume of one view: their frames, the union of their hair masks, its size, the
+/// masks' IoU and the hair FLIP between the frames over the union.
+struct Agreement {
+    strands: LinearImage,
+    volume: LinearImage,
+    union: Vec<bool>,
+    either: usize,
+    iou: f32,
+    flip: f32,
+}
+
+fn agreement(s: &mut Scene, distance: f32) -> Agreement {
+    let cam = camera(distance);
+    s.renderer.set_technique(Technique::Strands);
+    let (strands, _) = s.render(cam, false);
+    s.renderer.set_technique(Technique::Volume);
+    let (volume, _) = s.render(cam, false);
+    let (a, b) = (hair_mask(&strands), hair_mask(&volume));
+    let both = a.iter().zip(&b).filter(|(x, y)| **x && **y).count();
+    let union: Vec<bool> = a.iter().zip(&b).map(|(x, y)| *x || *y).collect();
+    let either = union.iter().filter(|u| **u).count();
+    let flip = masked_flip(&strands, &volume, &union);
+    Agreement {
+        strands,
+        volume,
+        union,
+        either,
+        iou: both as f32 / either.max(1) as f32,
+        flip,
+    }
+}
+
 #[test]
 fn volume_and_strands_agree_on_where_the_hair_is() {
     if common::gpu().is_none() {
@@ -475,17 +507,14 @@ fn volume_and_strands_agree_on_where_the_hair_is() {
     // 0.939). Bounded 10% above, against a frame without hair as the baseline.
     let mut last = f32::INFINITY;
     for (distance, bound) in [(5.0, 0.36), (8.0, 0.29)] {
-        let cam = camera(distance);
-        s.renderer.set_technique(Technique::Strands);
-        let (strands, _) = s.render(cam, false);
-        s.renderer.set_technique(Technique::Volume);
-        let (volume, _) = s.render(cam, false);
-        let (a, b) = (hair_mask(&strands), hair_mask(&volume));
-        let both = a.iter().zip(&b).filter(|(x, y)| **x && **y).count();
-        let either = a.iter().zip(&b).filter(|(x, y)| **x || **y).count();
-        let iou = both as f32 / either.max(1) as f32;
-        let union: Vec<bool> = a.iter().zip(&b).map(|(x, y)| *x || *y).collect();
-        let flip = masked_flip(&strands, &volume, &union);
+        let Agreement {
+            strands,
+            volume,
+            union,
+            either,
+            iou,
+            flip,
+        } = agreement(&mut s, distance);
         let blank = LinearImage {
             pixels: vec![background(); strands.pixels.len()],
             ..strands.clone()
@@ -530,17 +559,13 @@ fn under_marschner_the_volume_still_matches_the_strands() {
     // 0.260 under Kajiya-Kay; bounded 10% above.
     let mut last = f32::INFINITY;
     for (distance, bound) in [(5.0, 0.34), (8.0, 0.225)] {
-        let cam = camera(distance);
-        s.renderer.set_technique(Technique::Strands);
-        let (strands, _) = s.render(cam, false);
-        s.renderer.set_technique(Technique::Volume);
-        let (volume, _) = s.render(cam, false);
-        let (a, b) = (hair_mask(&strands), hair_mask(&volume));
-        let both = a.iter().zip(&b).filter(|(x, y)| **x && **y).count();
-        let either = a.iter().zip(&b).filter(|(x, y)| **x || **y).count();
-        let iou = both as f32 / either.max(1) as f32;
-        let union: Vec<bool> = a.iter().zip(&b).map(|(x, y)| *x || *y).collect();
-        let flip = masked_flip(&strands, &volume, &union);
+        let Agreement {
+            strands,
+            volume,
+            iou,
+            flip,
+            ..
+        } = agreement(&mut s, distance);
         eprintln!("marschner distance {distance}: IoU {iou:.3}, hair FLIP {flip:.3}");
         save(&format!("marschner_strands_{distance}"), &strands);
         save(&format!("marschner_volume_{distance}"), &volume);
