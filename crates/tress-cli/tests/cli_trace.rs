@@ -28,13 +28,17 @@ fn fails_with(out: &Output, needle: &str) {
 /// A small straight-hair scene on the generated head: a few hundred thick strands (1.5 mm, so
 /// they show at 48x32 pixels).
 fn scene_file() -> PathBuf {
+    // The tests run in parallel and share the file: write a private copy and rename it into
+    // place, so a `tress` process never reads a file another test has just truncated.
     let path = tmp("tiny.toml");
+    let private = tmp(&format!("tiny-{:?}.toml", std::thread::current().id()));
     std::fs::write(
-        &path,
+        &private,
         "[[hair]]\ngenerator = { style = \"straight\", strands = 300, vertices = 8, thickness = 0.15 }\n\
          [output]\nwidth = 48\nheight = 32\n",
     )
     .unwrap();
+    std::fs::rename(&private, &path).unwrap();
     path
 }
 
