@@ -39,6 +39,9 @@ const HELPERS: &[&str] = &[
     "marschner_crossing",
     "ds_gaussian3",
     "ds_spread_single_scattering",
+    "ds_lighting_at",
+    "ds_table_x",
+    "ds_table_mix",
 ];
 
 const STRUCTS: &[(&str, &[&str], u32)] = &[

@@ -65,8 +65,7 @@ fn shade_volume(x: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
                 direct = volume_light_visibility(i, p);
             }
             let n = strands_from_visibility(direct, volume_params.shadow_alpha);
-            color = color + dual_scattering_lighting(
-                material.fiber, material.dual, t, l, light_radiance(light), v, n, direct);
+            color = color + material_dual_scattering(t, l, light_radiance(light), v, n, direct);
             continue;
         }
         var c: vec3<f32>;

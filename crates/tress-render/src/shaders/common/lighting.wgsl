@@ -120,3 +120,20 @@ fn shadow_visibility(i: u32, p: vec3<f32>, params: StrandParams) -> f32 {
         default: { return adsm_pcf(shadow_map_3, texel, params.pcf_radius, f, r, params.shadow_alpha); }
     }
 }
+
+// `dual_scattering_lighting` with the material's fibre and table, the table read row by row
+// from the uniform (never loaded whole: see `ds_lighting_at`).
+fn material_dual_scattering(
+    t: vec3<f32>, l: vec3<f32>, light_color: vec3<f32>, v: vec3<f32>, strands: f32,
+    direct: f32) -> vec3<f32> {
+    let x = ds_table_x(hair_angles(t, l, v).sin_theta_i);
+    let i = min(u32(floor(x)), 15u);
+    let j = min(i + 1u, 15u);
+    let at = ds_table_mix(
+        material.dual.a_f[i], material.dual.a_f[j], material.dual.a_b[i], material.dual.a_b[j],
+        material.dual.delta_b[i], material.dual.delta_b[j], material.dual.sigma_b2[i],
+        material.dual.sigma_b2[j], x - f32(i));
+    return ds_lighting_at(
+        material.fiber, material.dual.params, material.dual.tt_avg, material.dual.trt_avg, at,
+        t, l, light_color, v, strands, direct);
+}

@@ -132,15 +132,27 @@ struct DualScatteringAt {
 // The table read at sin θi, linear between entries, clamped at the ends.
 fn dual_scattering_at(ds: DualScattering, sin_theta_i: f32) -> DualScatteringAt {
     var table = ds;
-    let x = clamp((sin_theta_i + 1.0) * 0.5 * 16.0 - 0.5, 0.0, 15.0);
+    let x = ds_table_x(sin_theta_i);
     let i = min(u32(floor(x)), 15u);
     let j = min(i + 1u, 15u);
-    let f = x - f32(i);
-    let a_f = mix(table.a_f[i], table.a_f[j], f);
+    return ds_table_mix(
+        table.a_f[i], table.a_f[j], table.a_b[i], table.a_b[j], table.delta_b[i],
+        table.delta_b[j], table.sigma_b2[i], table.sigma_b2[j], x - f32(i));
+}
+
+// The table position of sin θi: entry `floor(x)`, then `fract(x)` of the way to the next.
+fn ds_table_x(sin_theta_i: f32) -> f32 {
+    return clamp((sin_theta_i + 1.0) * 0.5 * 16.0 - 0.5, 0.0, 15.0);
+}
+
+// The table's rows i and j mixed by f.
+fn ds_table_mix(
+    a_f_i: vec4f, a_f_j: vec4f, a_b_i: vec4f, a_b_j: vec4f, delta_b_i: vec4f,
+    delta_b_j: vec4f, sigma_b2_i: vec4f, sigma_b2_j: vec4f, f: f32) -> DualScatteringAt {
+    let a_f = mix(a_f_i, a_f_j, f);
     return DualScatteringAt(
-        a_f.xyz, a_f.w, mix(table.a_b[i], table.a_b[j], f).xyz,
-        mix(table.delta_b[i], table.delta_b[j], f).xyz,
-        mix(table.sigma_b2[i], table.sigma_b2[j], f).xyz);
+        a_f.xyz, a_f.w, mix(a_b_i, a_b_j, f).xyz, mix(delta_b_i, delta_b_j, f).xyz,
+        mix(sigma_b2_i, sigma_b2_j, f).xyz);
 }
 
 fn ds_gaussian3(var2: vec3f, x: vec3f) -> vec3f {
@@ -149,14 +161,16 @@ fn ds_gaussian3(var2: vec3f, x: vec3f) -> vec3f {
         hair_gaussian(sqrt(var2.z), x.z));
 }
 
-// The single scattering of light spread by σ̄f² = spread2.
-fn ds_spread_single_scattering(m: Marschner, ds: DualScattering, a: HairAngles, spread2: f32) -> vec3f {
+// The single scattering of light spread by σ̄f² = spread2 (`params`, `tt_avg`, `trt_avg` of
+// the material's `DualScattering`).
+fn ds_spread_single_scattering(
+    m: Marschner, params: vec4f, tt_avg: vec4f, trt_avg: vec4f, a: HairAngles, spread2: f32) -> vec3f {
     let sum = a.sin_theta_i + a.sin_theta_o;
     let shifts = vec3f(2.0 * m.alpha, -m.alpha, -4.0 * m.alpha);
     let g_r = hair_gaussian(sqrt(m.beta.x * m.beta.x + spread2), sum - shifts.x);
     let g_tt = hair_gaussian(sqrt(m.beta.y * m.beta.y + spread2), sum - shifts.y);
     let g_trt = hair_gaussian(sqrt(m.beta.z * m.beta.z + spread2), sum - shifts.z);
-    return vec3f(g_r * ds.params.x) + g_tt * ds.tt_avg.xyz + g_trt * ds.trt_avg.xyz;
+    return vec3f(g_r * params.x) + g_tt * tt_avg.xyz + g_trt * trt_avg.xyz;
 }
 
 // Radiance from one light with single and multiple scattering: `strands` hairs between the
@@ -164,11 +178,22 @@ fn ds_spread_single_scattering(m: Marschner, ds: DualScattering, a: HairAngles, 
 fn dual_scattering_lighting(
     m: Marschner, ds: DualScattering, t: vec3f, l: vec3f, light_color: vec3f, v: vec3f,
     strands: f32, direct: f32) -> vec3f {
+    let at = dual_scattering_at(ds, hair_angles(t, l, v).sin_theta_i);
+    return ds_lighting_at(
+        m, ds.params, ds.tt_avg, ds.trt_avg, at, t, l, light_color, v, strands, direct);
+}
+
+// `dual_scattering_lighting` with the table already read at the light's sin θi (`at`) and the
+// table's `params`, `tt_avg`, `trt_avg`. The render passes call this with the material's rows
+// read from the uniform one by one: passing the 1 KB table by value made lavapipe load it for
+// every fragment, whatever the shading (the bear's ShortCut shade pass 63 s instead of 10 s).
+fn ds_lighting_at(
+    m: Marschner, params: vec4f, tt_avg: vec4f, trt_avg: vec4f, at: DualScatteringAt,
+    t: vec3f, l: vec3f, light_color: vec3f, v: vec3f, strands: f32, direct: f32) -> vec3f {
     let a = hair_angles(t, l, v);
     let single = vec3f(marschner_r(m, a)) + marschner_tt(m, a) + marschner_trt(m, a);
-    let at = dual_scattering_at(ds, a.sin_theta_i);
-    let d_f = ds.params.y;
-    let d_b = ds.params.z;
+    let d_f = params.y;
+    let d_b = params.z;
     let n = max(strands, 0.0);
     let sum = vec3f(a.sin_theta_i + a.sin_theta_o);
     let back = at.a_b * ds_gaussian3(at.sigma_b2, sum - at.delta_b);
@@ -177,6 +202,7 @@ fn dual_scattering_lighting(
     let spread2 = n * at.beta_f2;
     let back_spread = at.a_b * ds_gaussian3(at.sigma_b2 + vec3f(spread2), sum - at.delta_b);
     let f_scatter = max(t_f - vec3f(direct), vec3f(0.0)) * d_f
-        * (ds_spread_single_scattering(m, ds, a, spread2) + d_b * back_spread / MARSCHNER_TAU);
+        * (ds_spread_single_scattering(m, params, tt_avg, trt_avg, a, spread2)
+            + d_b * back_spread / MARSCHNER_TAU);
     return MARSCHNER_PI * light_color * (f_direct + f_scatter);
 }
