@@ -11,7 +11,6 @@
 //!   ppll_resolve     k nearest sorted + order-independent tail   (PpllResolve, §3.2)
 //! or (ShortCut, strands::oit)
 //!   shortcut_depth   k nearest depths per pixel                  (ShortcutDepth)
-//!   shortcut_threshold  each pixel's k-th depth                  (ShortcutThreshold)
 //!   shortcut_shade   those k shaded, the rest's transmittance    (ShortcutShade)
 //!   shortcut_resolve k sorted + the tail, over head              (ShortcutResolve)
 //! raymarch     hair box -> isosurface, shaded                       (Raymarch, §3.3-3.4)
@@ -52,7 +51,6 @@ pub const PASS_NAMES: &[&str] = &[
     "strands/ppll_build",
     "strands/ppll_resolve",
     "strands/shortcut_depth",
-    "strands/shortcut_threshold",
     "strands/shortcut_shade",
     "strands/shortcut_resolve",
     "volume/raymarch",

@@ -35,7 +35,6 @@ fn entry_modules_have_their_entry_points() {
         ("strands/ppll_resolve.wgsl", &["vs_main", "fs_main"]),
         ("strands/shortcut_depth.wgsl", &["vs_main", "fs_main"]),
         ("strands/shortcut_shade.wgsl", &["vs_main", "fs_main"]),
-        ("strands/shortcut_threshold.wgsl", &["cs_main"]),
         ("strands/shortcut_resolve.wgsl", &["vs_main", "fs_main"]),
         ("satf/index_calc.wgsl", &["cs_sectors", "cs_hsvs"]),
         ("satf/map_build.wgsl", &["cs_main"]),
@@ -141,6 +140,17 @@ fn shortcut_tail_constants_mirror_the_cpu_twin() {
         scalar_const(&module, "TAIL_SALT"),
         f64::from(tress_shading::SHORTCUT_TAIL_SALT)
     );
+    assert_eq!(
+        scalar_const(&module, "DEPTH_LEVELS"),
+        f64::from(tress_shading::SHORTCUT_DEPTH_LEVELS)
+    );
+    assert_eq!(
+        scalar_const(&module, "ALPHA_LEVELS"),
+        f64::from(tress_shading::SHORTCUT_ALPHA_LEVELS)
+    );
+    // The key's shift leaves the alpha's bits: 2^ALPHA_BITS - 1 >= ALPHA_LEVELS + 1 words.
+    assert_eq!(scalar_const(&module, "ALPHA_BITS"), 9.0);
+    assert!(f64::from(tress_shading::SHORTCUT_ALPHA_LEVELS) + 1.0 <= 511.0);
 }
 
 #[test]

@@ -118,8 +118,9 @@ pub use shadow::{
     adsm_visibility, strand_visibility, strands_from_visibility,
 };
 pub use shortcut::{
-    SHORTCUT_TAIL_PICK, SHORTCUT_TAIL_SALT, SHORTCUT_TAIL_SPACINGS, ShortcutFragment,
-    resolve_shortcut, shortcut_accumulator, shortcut_tail_falloff, shortcut_tail_weight,
+    SHORTCUT_ALPHA_LEVELS, SHORTCUT_DEPTH_LEVELS, SHORTCUT_TAIL_PICK, SHORTCUT_TAIL_SALT,
+    SHORTCUT_TAIL_SPACINGS, ShortcutFragment, resolve_shortcut, shortcut_accumulator, shortcut_key,
+    shortcut_key_depth, shortcut_layer_alpha, shortcut_tail_falloff, shortcut_tail_weight,
 };
 pub use volume::{
     DensityVolume, NO_CAP, VolumeSizeError, ao_offset, density_gradient, density_normal,

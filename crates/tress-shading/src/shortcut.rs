@@ -1,21 +1,23 @@
 //! The ShortCut composite (the strand rasterizer's bounded-memory OIT, after TressFX 4.1's
 //! "ShortCut"): the CPU reference of `strands/shortcut_{depth,shade,resolve}.wgsl` for one pixel.
 //!
-//! The depth pass finds the pixel's `k` nearest fragments, the shade pass shades those into
-//! their layers and multiplies every other fragment's `1 - alpha` into a transmittance `T`, and
-//! the resolve blends the `k` front to back (as the PPLL's sorted front, [`composite_sorted`])
-//! with the tail under them: opacity `1 - T`, exact and independent of order, and as color a
-//! weighted mean of the tail's colors. Only the tail's first fragments show through it, so each
-//! is weighted by `alpha · exp(-(z - z_k) / (SHORTCUT_TAIL_SPACINGS · g))`, `z_k` the k-th depth
-//! and `g` the mean depth spacing of the k layers: the tail taken as a few of the front's layer
-//! spacings deep per unit of optical depth. Shading every tail fragment would make the shade
-//! pass slower than the PPLL's, so a hash roulette picks a fragment with probability `p =
-//! min(1, SHORTCUT_TAIL_PICK · factor)` and weighs it `1 / p` more ([`shortcut_tail_weight`]):
-//! the same mean in expectation from a few fragments a pixel. The roulette's number is a hash of
-//! the fragment's strand, so the fragments of one primitive, shaded side by side in one SIMD
-//! group, are picked or passed over together (a per-fragment number made the group shade when
-//! any one lane was picked: the bear's shade pass took 19.5 s instead of 10.5 s on lavapipe). Where no tail fragment is
-//! weighted (k = 1, the k at one depth) the tail takes the color of the farthest of the `k`.
+//! The depth pass finds the pixel's `k` nearest fragment depths. The k-th nearest is the tail's
+//! threshold, as in TressFX: the shade pass shades the `k - 1` nearer fragments into their
+//! layers and multiplies every other fragment's `1 - alpha` (the k-th's too) into a
+//! transmittance `T`, and the resolve blends the `k - 1` front to back (as the PPLL's sorted
+//! front, [`composite_sorted`]) with the tail under them: opacity `1 - T`, exact and independent
+//! of order, and as color a weighted mean of the tail's colors. Only the tail's first fragments
+//! show through it, so each is weighted by `alpha · exp(-(z - z_k) / (SHORTCUT_TAIL_SPACINGS ·
+//! g))`, `z_k` the k-th depth and `g` the mean depth spacing of the `k` nearest: the tail taken
+//! as a few of the front's layer spacings deep per unit of optical depth. Shading every tail
+//! fragment would make the shade pass slower than the PPLL's, so a hash roulette picks a
+//! fragment with probability `p = min(1, SHORTCUT_TAIL_PICK · factor)` and weighs it `1 / p`
+//! more ([`shortcut_tail_weight`]): the same mean in expectation from a few fragments a pixel.
+//! The roulette's number is a hash of the fragment's strand, so the fragments of one primitive,
+//! shaded side by side in one SIMD group, are picked or passed over together (a per-fragment
+//! number made the group shade when any one lane was picked: the bear's shade pass took 19.5 s
+//! instead of 10.5 s on lavapipe). Where no falloff is known (k = 1, the `k` nearest at one
+//! depth) the fragments at the threshold weigh their alpha: the tail takes the k-th's color.
 //!
 //! Measured against exact sorting (the fragments of a PPLL frame that held every one, sorted on
 //! the CPU), mean FLIP over the frame at k = 8, bear fur 320x180 (885 tail fragments a pixel on
@@ -23,7 +25,12 @@
 //! deep, self-shadowed fur is invisible), these weights 0.0046; at 1280x720 0.0147 and 0.0082;
 //! on the ponytail (320x180) 0.0024 and 0.0027. Fewer spacings (4) suit the ponytail a little
 //! better and the bear worse (0.0056 at 320x180, 0.0091 at 1280x720).
-//! The difference from the PPLL's [`resolve_k_buffer`] is only the tail's color.
+//! (Those figures predate the k-th's move into the tail, which made `k` layers the former `k -
+//! 1`'s and saved 4 bytes a pixel.) The difference from the PPLL's [`resolve_k_buffer`] (with
+//! `k - 1` sorted) is the tail's color and the layers' precision: a layer is one word, its depth key in 23 bits ([`shortcut_key`]: depths closer
+//! than 1 / 8,388,606 tie) and, once claimed, its fragment's alpha in the other 9 (steps of
+//! 1 / 510, [`shortcut_layer_alpha`]), so the k-th depth and the layers' spacing stay readable
+//! while the shade pass claims layers and no per-pixel copy of them is needed.
 //!
 //! [`resolve_k_buffer`]: crate::resolve_k_buffer
 
@@ -40,6 +47,32 @@ pub const SHORTCUT_TAIL_SPACINGS: f32 = 5.0;
 pub const SHORTCUT_TAIL_PICK: f32 = 1.0;
 /// Salts the strand index for the roulette's number (`TAIL_SALT`).
 pub const SHORTCUT_TAIL_SALT: u32 = 0x9e37_79b9;
+
+/// Depth steps of a layer key (`DEPTH_LEVELS` in `common/shortcut_keys.wgsl`): 2^23 - 2, so a
+/// key is in `[1, 2^23 - 1]` before its 9-bit shift.
+pub const SHORTCUT_DEPTH_LEVELS: f32 = 8_388_606.0;
+/// Alpha steps of a claimed layer (`ALPHA_LEVELS`): the word's low 9 bits hold 1 + the step.
+pub const SHORTCUT_ALPHA_LEVELS: f32 = 510.0;
+const DEPTH_LEVELS: f32 = SHORTCUT_DEPTH_LEVELS;
+const ALPHA_LEVELS: f32 = SHORTCUT_ALPHA_LEVELS;
+
+/// The layer-sorting key of a depth (clamped to `[0, 1]`), as the depth pass makes it: larger
+/// is nearer, never 0, the low 9 bits clear (`shortcut_key` in `common/shortcut_keys.wgsl`).
+pub fn shortcut_key(depth: f32) -> u32 {
+    let steps = (saturate(depth) * DEPTH_LEVELS) as u32;
+    (DEPTH_LEVELS as u32 + 1 - steps) << 9
+}
+
+/// The depth a layer key stands for (`shortcut_depth`): the depth to the key's step.
+pub fn shortcut_key_depth(key: u32) -> f32 {
+    (DEPTH_LEVELS as u32 + 1 - (key >> 9)) as f32 / DEPTH_LEVELS
+}
+
+/// The alpha a claimed layer keeps of a fragment's (clamped to `[0, 1]`), in steps of 1 / 510
+/// (`shortcut_claimed` and `shortcut_alpha`).
+pub fn shortcut_layer_alpha(alpha: f32) -> f32 {
+    (saturate(alpha) * ALPHA_LEVELS).round() / ALPHA_LEVELS
+}
 
 /// A fragment of the ShortCut composite: the fragment and the index of its strand (the tail
 /// roulette's number comes from the strand).
@@ -58,18 +91,20 @@ fn hash_u32(x: u32) -> u32 {
     (h >> 22) ^ h
 }
 
-/// The weight a tail fragment of `strand` adds to the tail's mean color (0: not picked), `z_k`
-/// the k-th depth and `falloff` from [`shortcut_tail_falloff`]: `alpha · factor / p` when the
-/// hash of its strand falls below `p = min(1, SHORTCUT_TAIL_PICK · factor)`, `factor = exp(-(z
-/// - z_k) · falloff)`. In expectation over the hash, `alpha · factor`. The shade pass's
-/// `tail_weight`.
-pub fn shortcut_tail_weight(fragment: &StrandFragment, strand: u32, z_k: f32, falloff: f32) -> f32 {
+/// The weight a tail fragment of `strand` adds to the tail's mean color (0: not picked), `far`
+/// the k-th's key ([`shortcut_key`]; `z_k` its depth) and `falloff` from
+/// [`shortcut_tail_falloff`]: `alpha · factor / p` when the hash of its strand falls below `p =
+/// min(1, SHORTCUT_TAIL_PICK · factor)`, `factor = exp(-(z - z_k) · falloff)`. In expectation
+/// over the hash, `alpha · factor`. With no falloff only the fragments at the threshold (the
+/// k-th and its ties) weigh their alpha. The shade pass's `tail_weight`.
+pub fn shortcut_tail_weight(fragment: &StrandFragment, strand: u32, far: u32, falloff: f32) -> f32 {
+    let z_k = shortcut_key_depth(far);
     let z = saturate(fragment.depth);
     let alpha = saturate(fragment.alpha);
     let factor = (-(z - z_k).max(0.0) * falloff).exp();
     let pick = (SHORTCUT_TAIL_PICK * factor).min(1.0);
     let u = (hash_u32(strand ^ SHORTCUT_TAIL_SALT) >> 8) as f32 / 16_777_216.0;
-    if falloff > 0.0 && u < pick {
+    if (falloff > 0.0 || shortcut_key(fragment.depth) == far) && u < pick {
         alpha * factor / pick
     } else {
         0.0
@@ -77,9 +112,8 @@ pub fn shortcut_tail_weight(fragment: &StrandFragment, strand: u32, z_k: f32, fa
 }
 
 /// The tail's depth falloff `1 / (SHORTCUT_TAIL_SPACINGS · g)` from the sorted `front` layers
-/// (`g` their mean depth spacing, depths clamped to `[0, 1]` as the layer keys hold them) to 8
-/// bits of mantissa as the GPU keeps it, or 0 when it is unknown (one layer, or every layer at
-/// one depth).
+/// (`g` their mean depth spacing, from the depths their keys hold), or 0 when it is unknown
+/// (one layer, or every layer at one depth). The shade pass's `tail_falloff`.
 pub fn shortcut_tail_falloff(front: &[StrandFragment]) -> f32 {
     let (Some(near), Some(far)) = (front.first(), front.last()) else {
         return 0.0;
@@ -87,47 +121,57 @@ pub fn shortcut_tail_falloff(front: &[StrandFragment]) -> f32 {
     if front.len() < 2 {
         return 0.0;
     }
-    let spacing = (saturate(far.depth) - saturate(near.depth)) / (front.len() - 1) as f32;
+    let depth = |f: &StrandFragment| shortcut_key_depth(shortcut_key(f.depth));
+    let spacing = (depth(far) - depth(near)) / (front.len() - 1) as f32;
     if spacing > 0.0 {
-        // Kept as the GPU keeps it: the top 16 bits of the f32, rounded (`falloff_bits`).
-        let bits = (1.0 / (SHORTCUT_TAIL_SPACINGS * spacing)).to_bits();
-        f32::from_bits((bits.saturating_add(0x8000).min(0x7f7f_0000) >> 16) << 16)
+        1.0 / (SHORTCUT_TAIL_SPACINGS * spacing)
     } else {
         0.0
     }
 }
 
 /// The ShortCut resolve of one pixel's fragments (any order) with `k` sorted layers, over
-/// `background`. Ties in depth keep their input order. With `k >= fragments.len()` this is
+/// `background`. Fragments are sorted by their layer keys ([`shortcut_key`]); ties keep their
+/// input order. The layers blend with the alpha they keep ([`shortcut_layer_alpha`]). With `k >= fragments.len()` this is
 /// exact sorted compositing; with `k = 0` nothing is stored and the pixel keeps `background`.
 pub fn resolve_shortcut(fragments: &[ShortcutFragment], k: usize, background: Vec3) -> Vec3 {
+    if k == 0 || fragments.is_empty() {
+        return background;
+    }
     let mut sorted = fragments.to_vec();
-    sorted.sort_by(|a, b| a.fragment.depth.total_cmp(&b.fragment.depth));
+    sorted.sort_by_key(|s| std::cmp::Reverse(shortcut_key(s.fragment.depth)));
+    // The k-th nearest is the tail's threshold and its first fragment.
+    let layers = k - 1;
+    let nearest: Vec<StrandFragment> = sorted.iter().take(k).map(|s| s.fragment).collect();
     let (front, tail): (Vec<_>, Vec<_>) = (
-        sorted.iter().take(k).map(|s| s.fragment).collect(),
-        sorted.iter().skip(k).copied().collect(),
+        sorted
+            .iter()
+            .take(layers)
+            .map(|s| StrandFragment {
+                alpha: shortcut_layer_alpha(s.fragment.alpha),
+                ..s.fragment
+            })
+            .collect(),
+        sorted.iter().skip(layers).copied().collect(),
     );
     let front = front.as_slice();
-    let Some(farthest) = front.last() else {
-        return background;
-    };
     let transmittance: f32 = tail
         .iter()
         .map(|s| 1.0 - saturate(s.fragment.alpha))
         .product();
     let tail_alpha = 1.0 - transmittance;
-    let falloff = shortcut_tail_falloff(front);
-    let z_k = saturate(farthest.depth);
+    let falloff = shortcut_tail_falloff(&nearest);
+    let far = nearest.last().map_or(0, |f| shortcut_key(f.depth));
     let (mut weighted, mut weights) = (Vec3::ZERO, 0.0f32);
     for s in &tail {
-        let w = shortcut_tail_weight(&s.fragment, s.strand, z_k, falloff);
+        let w = shortcut_tail_weight(&s.fragment, s.strand, far, falloff);
         weighted += w * s.fragment.color;
         weights += w;
     }
     let color = if weights > 0.0 {
         weighted / weights
     } else {
-        farthest.color
+        front.last().map_or(Vec3::ZERO, |f| f.color)
     };
     let acc = blend_under(
         composite_sorted(front),
@@ -167,12 +211,12 @@ mod tests {
 
     fn sample() -> Vec<StrandFragment> {
         vec![
-            frag([0.9, 0.1, 0.1], 0.4, 3.0),
-            frag([0.1, 0.8, 0.2], 0.3, 1.0),
-            frag([0.2, 0.2, 0.9], 0.6, 5.0),
-            frag([0.7, 0.6, 0.1], 0.25, 2.0),
-            frag([0.3, 0.3, 0.3], 0.5, 4.0),
-            frag([1.0, 1.0, 1.0], 0.2, 6.0),
+            frag([0.9, 0.1, 0.1], 0.4, 0.3),
+            frag([0.1, 0.8, 0.2], 0.3, 0.1),
+            frag([0.2, 0.2, 0.9], 0.6, 0.5),
+            frag([0.7, 0.6, 0.1], 0.25, 0.2),
+            frag([0.3, 0.3, 0.3], 0.5, 0.4),
+            frag([1.0, 1.0, 1.0], 0.2, 0.6),
         ]
     }
 
@@ -181,12 +225,44 @@ mod tests {
     }
 
     #[test]
+    fn keys_order_depths_nearest_largest_and_keep_the_alpha_bits_clear() {
+        let mut last = u32::MAX;
+        for i in 0..=1000 {
+            let z = i as f32 / 1000.0;
+            let key = shortcut_key(z);
+            assert!(key > 0 && key & 0x1ff == 0, "{z}: {key:#x}");
+            assert!(key < last, "{z}: nearer must be larger");
+            last = key;
+            let back = shortcut_key_depth(key);
+            assert!((z - back).abs() < 2.0 / DEPTH_LEVELS, "{z} -> {back}");
+        }
+        assert_eq!(shortcut_key(-1.0), shortcut_key(0.0));
+        assert_eq!(shortcut_key(2.0), shortcut_key(1.0));
+        // 1 / 510 steps, 0 and 1 exact.
+        assert_eq!(shortcut_layer_alpha(0.0), 0.0);
+        assert_eq!(shortcut_layer_alpha(1.0), 1.0);
+        assert!((shortcut_layer_alpha(0.3) - 0.3).abs() <= 0.5 / ALPHA_LEVELS);
+    }
+
+    #[test]
     fn with_every_fragment_stored_it_is_the_exact_composite() {
         let bg = Vec3::new(0.1, 0.2, 0.3);
         let f = sample();
+        // With the alpha the layers keep (0.25 is 127.5 steps: it rounds up).
+        let kept: Vec<StrandFragment> = f
+            .iter()
+            .map(|x| StrandFragment {
+                alpha: shortcut_layer_alpha(x.alpha),
+                ..*x
+            })
+            .collect();
+        assert!(kept.iter().zip(&f).any(|(a, b)| a.alpha != b.alpha));
         for k in [f.len(), f.len() + 3] {
-            let exact = resolve_k_buffer(&f, k, bg);
+            let exact = resolve_k_buffer(&kept, k, bg);
             assert!(close(resolve_shortcut(&on(&f), k, bg), exact, 1e-6));
+            // And within the alpha steps of the exact composite.
+            let exact = resolve_k_buffer(&f, k, bg);
+            assert!(close(resolve_shortcut(&on(&f), k, bg), exact, 2e-3));
         }
     }
 
@@ -197,51 +273,57 @@ mod tests {
         let pass: f32 = f.iter().map(|f| 1.0 - f.alpha).product();
         for k in 1..=f.len() {
             let a = shortcut_accumulator(&on(&f), k);
-            assert!((a.w - (1.0 - pass)).abs() < 1e-5, "k = {k}: {}", a.w);
+            // Exact up to the stored layers' alpha steps (1 / 510).
+            assert!((a.w - (1.0 - pass)).abs() < 2e-3, "k = {k}: {}", a.w);
         }
     }
 
     #[test]
-    fn without_a_falloff_the_tail_takes_the_farthest_stored_color() {
+    fn without_a_falloff_the_tail_takes_the_threshold_color() {
         let bg = Vec3::ZERO;
         let near = frag([1.0, 0.0, 0.0], 0.5, 0.1);
         let far = frag([0.0, 1.0, 0.0], 0.5, 0.2);
         let tail = frag([0.0, 0.0, 1.0], 0.5, 0.3);
-        // k = 1: no spacing to take a falloff from.
+        // k = 1: no layer, the nearest is the threshold; no spacing to take a falloff from.
         let c = resolve_shortcut(&on(&[tail, far, near]), 1, bg);
-        // near, then the tail (far and tail: opacity 0.75) in the color of near.
-        let want = Vec3::new(0.5 + 0.5 * 0.75, 0.0, 0.0);
+        // All three in the tail (opacity 0.875), in the color of the nearest.
+        let want = Vec3::new(0.875, 0.0, 0.0);
         assert!(close(c, want, 1e-6), "{c}");
-        // Both layers at one depth: no spacing either.
+        // The two nearest at one depth: no spacing either.
         let twin = frag([0.0, 1.0, 0.0], 0.5, 0.1);
         let c = resolve_shortcut(&on(&[tail, twin, near]), 2, bg);
-        // Ties keep their order: twin, then near, then the tail in near's color.
-        let want = Vec3::new(0.25 + 0.25 * 0.5, 0.5, 0.0);
+        // Ties keep their order: twin is the layer, near (the threshold) and the tail the tail
+        // (opacity 0.75) in near's color, under twin.
+        let want = Vec3::new(0.5 * 0.75, 0.5, 0.0);
         assert!(close(c, want, 1e-6), "{c}");
     }
 
     #[test]
     fn the_tail_is_the_mean_of_its_fragments_weighted_by_alpha_and_falloff() {
-        // Layers at 0.1 and 0.12: spacing 0.02, falloff 1 / (5 · 0.02) = 10 per unit depth.
+        // k = 3: layers at 0.1 and 0.12 and the threshold `a` at 0.12: spacing 0.01, falloff
+        // 1 / (5 · 0.01) = 20 per unit depth.
         let near = frag([0.2, 0.2, 0.2], 0.5, 0.1);
         let far = frag([0.2, 0.2, 0.2], 0.5, 0.12);
-        assert!((shortcut_tail_falloff(&[near, far]) - 10.0).abs() < 1e-3);
-        let a = frag([1.0, 0.0, 0.0], 0.4, 0.12); // a tie with the k-th: factor 1
+        let a = frag([1.0, 0.0, 0.0], 0.4, 0.12); // the k-th: factor 1
+        assert!((shortcut_tail_falloff(&[near, far, a]) - 20.0).abs() < 2e-2);
         let b = frag([0.0, 1.0, 0.0], 0.2, 0.2);
-        // exp(-0.78 · 10): picked with probability 0.0004, and this one's strand (0) is not.
+        // exp(-0.78 · 20): picked with probability 2e-7, and this one's strand (0) is not.
         let gone = frag([0.0, 0.0, 1.0], 0.9, 0.9);
-        assert_eq!(shortcut_tail_weight(&gone, 0, 0.12, 10.0), 0.0);
-        // Factor 1: picked for sure, weighed alpha. Factor 0.45: picked with p = 0.45, then
+        assert_eq!(
+            shortcut_tail_weight(&gone, 0, shortcut_key(0.12), 20.0),
+            0.0
+        );
+        // Factor 1: picked for sure, weighed alpha. Factor 0.2: picked with p = 0.2, then
         // weighed alpha · factor / p = alpha.
-        let wa = shortcut_tail_weight(&a, 3, 0.12, 10.0);
-        let wb = shortcut_tail_weight(&b, 1, 0.12, 10.0);
+        let wa = shortcut_tail_weight(&a, 3, shortcut_key(0.12), 20.0);
+        let wb = shortcut_tail_weight(&b, 1, shortcut_key(0.12), 20.0);
         assert_eq!(wa, 0.4);
         assert!(wb == 0.0 || (wb - 0.2).abs() < 1e-6, "{wb}");
         let tail = (Vec3::new(wa, wb, 0.0)) / (wa + wb);
         let tail_alpha = 1.0 - 0.6 * 0.8 * 0.1;
         let front = composite_sorted(&[near, far]);
         let want = blend_under(front, (tail * tail_alpha).extend(tail_alpha)).truncate();
-        let got = resolve_shortcut(&on(&[gone, b, far, a, near]), 2, Vec3::ZERO);
+        let got = resolve_shortcut(&on(&[gone, b, far, a, near]), 3, Vec3::ZERO);
         assert!(close(got, want, 1e-5), "{got} vs {want}");
     }
 
@@ -256,20 +338,26 @@ mod tests {
                 0.2 + 0.1 * (i % 7) as f32 / 7.0,
                 0.5 + 1e-5 * i as f32,
             );
-            let w = shortcut_tail_weight(&f, i, 0.5, 10.0);
+            let w = shortcut_tail_weight(&f, i, shortcut_key(0.5), 10.0);
             got += f64::from(w);
             want += f64::from(f.alpha * (-(f.depth - 0.5) * 10.0).exp());
             picked += usize::from(w > 0.0);
         }
         assert!((got / want - 1.0).abs() < 0.02, "{got} vs {want}");
         assert!((8_000..16_000).contains(&picked), "{picked}");
-        // No falloff: nothing is weighted; a fragment in front of the k-th counts as at it.
+        // No falloff: only a fragment at the threshold weighs its alpha; a fragment in front
+        // of the k-th counts as at it.
+        let at = shortcut_key(0.5);
         assert_eq!(
-            shortcut_tail_weight(&frag([0.5; 3], 0.3, 0.6), 0, 0.5, 0.0),
+            shortcut_tail_weight(&frag([0.5; 3], 0.3, 0.6), 0, at, 0.0),
             0.0
         );
         assert_eq!(
-            shortcut_tail_weight(&frag([0.5; 3], 0.3, 0.4), 0, 0.5, 10.0),
+            shortcut_tail_weight(&frag([0.5; 3], 0.3, 0.5), 0, at, 0.0),
+            0.3
+        );
+        assert_eq!(
+            shortcut_tail_weight(&frag([0.5; 3], 0.3, 0.4), 0, at, 10.0),
             0.3
         );
     }
@@ -298,7 +386,8 @@ mod tests {
                 for x in &mut s {
                     x.strand += 1000 * pixel;
                 }
-                (resolve_shortcut(&s, 4, Vec3::ZERO) - exact)
+                // Four layers and the threshold.
+                (resolve_shortcut(&s, 5, Vec3::ZERO) - exact)
                     .abs()
                     .max_element()
             })
@@ -339,6 +428,10 @@ mod tests {
         let mut same = f.clone();
         for x in &mut same {
             x.color = Vec3::new(0.4, 0.3, 0.2);
+        }
+        // (Alphas on the layers' 1 / 510 steps, which the layers keep exactly.)
+        for (i, x) in same.iter_mut().enumerate() {
+            x.alpha = (100 + 30 * i) as f32 / 510.0;
         }
         for k in 1..=f.len() {
             assert!(close(

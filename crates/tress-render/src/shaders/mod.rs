@@ -83,10 +83,6 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../strands/shortcut_shade.wgsl"),
     ),
     (
-        "strands/shortcut_threshold.wgsl",
-        include_str!("../strands/shortcut_threshold.wgsl"),
-    ),
-    (
         "strands/shortcut_resolve.wgsl",
         include_str!("../strands/shortcut_resolve.wgsl"),
     ),
@@ -162,7 +158,6 @@ pub const ENTRY_MODULES: &[&str] = &[
     "strands/ppll_resolve.wgsl",
     "strands/shortcut_depth.wgsl",
     "strands/shortcut_shade.wgsl",
-    "strands/shortcut_threshold.wgsl",
     "strands/shortcut_resolve.wgsl",
     "satf/index_calc.wgsl",
     "satf/map_build.wgsl",

@@ -1,6 +1,6 @@
 //! Order-independent transparency of the strand rasterizer: the paper's PPLL k-buffer
 //! ([`PpllBuild`] + [`PpllResolve`]), the bounded-memory ShortCut ([`ShortcutDepth`] +
-//! [`ShortcutThreshold`] + [`ShortcutShade`] + [`ShortcutResolve`]), and the per-frame choice
+//! [`ShortcutShade`] + [`ShortcutResolve`]), and the per-frame choice
 //! between them
 //! ([`Oit::Auto`], the default).
 //!
@@ -12,14 +12,15 @@
 //!   dropped and counted (design rule 8): with [`Oit::Ppll`] they are lost.
 //! - **ShortCut** (after TressFX 4.1's "ShortCut" OIT): a depth-only pass keeps each pixel's `k`
 //!   nearest fragment depths (an `atomicMax` chain over `k` sorted key layers; a fragment
-//!   farther than a full set of `k` stops after one load), a threshold pass copies each pixel's
-//!   k-th key and the tail's depth falloff (from the `k` layers' mean spacing), a shade pass
-//!   shades the `k` nearest fragments into their layers, multiplies every other fragment's
+//!   farther than a full set of `k` stops after one load), a shade pass
+//!   shades the `k - 1` nearest fragments into their layers (the k-th nearest depth is the
+//!   tail's threshold, as in TressFX, and its fragment the tail's first) (a layer's word keeps its depth key and
+//!   takes the fragment's alpha in its low bits), multiplies every other fragment's
 //!   opacity into a transmittance target and, for the tail fragments a roulette on a hash of
-//!   their strand picks (likelier near the k-th depth), adds their shaded color weighted by the falloff into a
-//!   tail color target, and a resolve blends the `k` layers front to back with the tail under
-//!   them. Its memory is fixed by the screen and `k` (63.3 MiB at 1280x720 with the default
-//!   k = 7, 70.3 MiB at k = 8) and it never drops a fragment. The tail's opacity is exact; its
+//!   their strand picks (likelier near the k-th depth), adds their shaded color weighted by a depth falloff (from the `k` layers' mean spacing)
+//!   into a tail color target, and a resolve blends the `k` layers front to back with the tail under
+//!   them. Its memory is fixed by the screen and `k` (54.5 MiB at 1280x720 with the default
+//!   k = 7, 61.5 MiB at k = 8) and it never drops a fragment. The tail's opacity is exact; its
 //!   color is the falloff-weighted mean of the picked fragments, or the farthest of the `k`
 //!   where none was picked. CPU twin: `tress_shading::resolve_shortcut`.
 //! - **Auto**: PPLL while a grown pool holds the frame, ShortCut once a frame asks for more
@@ -42,7 +43,6 @@ use crate::strands::shortcut::ShortcutBuffers;
 use crate::strands::shortcut_depth::ShortcutDepth;
 use crate::strands::shortcut_resolve::ShortcutResolve;
 use crate::strands::shortcut_shade::ShortcutShade;
-use crate::strands::shortcut_threshold::ShortcutThreshold;
 use crate::strands::{PpllBuild, PpllPool, PpllResolve, StrandGeometry, StrandSettings};
 use crate::{GpuContext, RenderError};
 
@@ -144,7 +144,6 @@ pub(crate) struct StrandOit {
     build: PpllBuild,
     resolve: PpllResolve,
     depth: ShortcutDepth,
-    threshold: ShortcutThreshold,
     shade: ShortcutShade,
     shortcut_resolve: ShortcutResolve,
     pool: Option<PpllPool>,
@@ -166,7 +165,6 @@ impl StrandOit {
             build: PpllBuild::new(ctx, layouts)?,
             resolve: PpllResolve::new(ctx, layouts, color_format)?,
             shortcut_resolve: ShortcutResolve::new(ctx, &layouts.view, color_format)?,
-            threshold: ShortcutThreshold::new(ctx)?,
             depth,
             shade,
             pool: None,
@@ -328,12 +326,6 @@ impl StrandOit {
                     buffers,
                     &group,
                     timer.render_writes("strands/shortcut_depth", true, true),
-                );
-                self.threshold.encode(
-                    ctx,
-                    encoder,
-                    buffers,
-                    timer.compute_writes("strands/shortcut_threshold", true, true),
                 );
                 self.shade.encode(
                     encoder,

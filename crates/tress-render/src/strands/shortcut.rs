@@ -1,9 +1,9 @@
-//! The ShortCut buffers (`common/shortcut.wgsl`): `k` layers of depth keys and colors per pixel,
-//! the k-th key and the tail's depth falloff per pixel, the fragment counter, the tail's
+//! The ShortCut buffers (`common/shortcut.wgsl`): per pixel `k` layers of depth keys (with a
+//! claimed fragment's alpha) and `k - 1` of colors, the fragment counter, the tail's
 //! transmittance target and its weighted color target. Their size is fixed by the target and
-//! `k`, never by the hair: at 1280x720 and k = 7 (the default), 49.2 MiB of layers, 3.5 MiB of
-//! k-th keys, 1.76 MiB of falloffs, 1.76 MiB of transmittance and 7.0 MiB of tail color
-//! (63.3 MiB).
+//! `k`, never by the hair: at 1280x720, 3.5 MiB a key layer and a color layer, 1.76 MiB of
+//! transmittance and 7.0 MiB of tail color: 54.5 MiB at k = 7 (the default) and 61.5 MiB at
+//! k = 8.
 
 use crate::bind::{depth_texture, storage, texture_2d};
 use crate::gpu::screen_layer;
@@ -22,23 +22,30 @@ pub(crate) const TAIL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16F
 pub(crate) const HEAD_DEPTH: u32 = 3;
 /// Binding of the transmittance texture (resolve pass).
 pub(crate) const TRANSMITTANCE: u32 = 4;
-/// Binding of the per-pixel k-th key and tail falloff (shade pass).
-pub(crate) const FAR: u32 = 5;
 /// Binding of the tail's weighted color (resolve pass).
 pub(crate) const TAIL: u32 = 6;
-/// Binding of the per-pixel tail falloffs, two 16-bit floats a word (shade pass).
-pub(crate) const FALLOFF: u32 = 7;
 
-/// Bytes ShortCut needs for a target of `size` with `k` layers: 8 bytes a layer a pixel (key,
-/// color), 4 bytes of k-th key, 2 of tail falloff, 2 of transmittance and 8 of tail color a
-/// pixel (plus 16 bytes of counters).
+/// Bytes ShortCut needs for a target of `size` with `k` layers: 4 bytes a key layer and a
+/// color layer a pixel (`k` keys, `k - 1` colors: the k-th nearest opens the tail), 2 of
+/// transmittance and 8 of tail color a pixel (plus 16 bytes of counters).
 pub fn shortcut_bytes(size: [u32; 2], k: u32) -> u64 {
     let pixels = u64::from(size[0]) * u64::from(size[1]);
-    pixels * u64::from(k.clamp(1, MAX_SHORTCUT_K)) * 8
-        + pixels * 4
-        + falloff_bytes(size)
+    let k = k.clamp(1, MAX_SHORTCUT_K);
+    key_bytes(pixels, k)
+        + color_bytes(pixels, k)
         + pixels * target_texel_bytes()
         + std::mem::size_of::<PpllCounters>() as u64
+}
+
+/// Bytes of `k` key layers of `pixels`.
+fn key_bytes(pixels: u64, k: u32) -> u64 {
+    pixels * 4 * u64::from(k)
+}
+
+/// Bytes of the `k - 1` color layers of `pixels` (one word when there are none: a binding is
+/// never empty).
+fn color_bytes(pixels: u64, k: u32) -> u64 {
+    (pixels * 4 * u64::from(k - 1)).max(4)
 }
 
 /// Bytes a pixel of the transmittance and tail targets take.
@@ -49,13 +56,7 @@ fn target_texel_bytes() -> u64 {
         .sum()
 }
 
-/// Bytes of the falloffs: one word a pair of pixels.
-fn falloff_bytes(size: [u32; 2]) -> u64 {
-    (u64::from(size[0]) * u64::from(size[1])).div_ceil(2) * 4
-}
-
-/// The layout of the depth and shade passes' group 3: keys, colors, counters, head depth, k-th
-/// keys.
+/// The layout of the depth and shade passes' group 3: keys, colors, counters, head depth.
 pub(crate) fn raster_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
     let fragment = wgpu::ShaderStages::FRAGMENT;
     vec![
@@ -63,8 +64,6 @@ pub(crate) fn raster_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
         storage(1, fragment, false),
         storage(2, fragment, false),
         depth_texture(HEAD_DEPTH, fragment),
-        storage(FAR, fragment, true),
-        storage(FALLOFF, fragment, true),
     ]
 }
 
@@ -85,10 +84,6 @@ pub(crate) struct ShortcutBuffers {
     pub(crate) keys: wgpu::Buffer,
     pub(crate) colors: wgpu::Buffer,
     pub(crate) counters: wgpu::Buffer,
-    /// Per pixel: the key of its k-th nearest fragment (`shortcut_threshold.wgsl`).
-    pub(crate) far: wgpu::Buffer,
-    /// Per pair of pixels: their tail falloffs as the top 16 bits of two f32s.
-    pub(crate) falloff: wgpu::Buffer,
     pub(crate) transmittance: wgpu::TextureView,
     /// The tail's weighted color: `Σ w · color` in rgb, `Σ w` in alpha.
     pub(crate) tail: wgpu::TextureView,
@@ -99,7 +94,8 @@ pub(crate) struct ShortcutBuffers {
 impl ShortcutBuffers {
     pub(crate) fn new(ctx: &GpuContext, size: [u32; 2], k: u32) -> Result<Self, RenderError> {
         let k = k.clamp(1, MAX_SHORTCUT_K);
-        let layer_bytes = u64::from(size[0]) * u64::from(size[1]) * 4 * u64::from(k);
+        let pixels = u64::from(size[0]) * u64::from(size[1]);
+        let layer_bytes = key_bytes(pixels, k);
         let limit = ctx.caps.max_storage_binding.min(ctx.caps.max_buffer_size);
         if layer_bytes > limit {
             return Err(RenderError::Limit {
@@ -124,13 +120,7 @@ impl ShortcutBuffers {
             let texture = |label: &str, format| screen_layer(ctx, label, size, format);
             ShortcutBuffers {
                 keys: buffer("strands/shortcut/keys", layer_bytes, storage),
-                far: buffer(
-                    "strands/shortcut/far",
-                    u64::from(size[0]) * u64::from(size[1]) * 4,
-                    storage,
-                ),
-                falloff: buffer("strands/shortcut/falloff", falloff_bytes(size), storage),
-                colors: buffer("strands/shortcut/colors", layer_bytes, storage),
+                colors: buffer("strands/shortcut/colors", color_bytes(pixels, k), storage),
                 counters: buffer(
                     "strands/shortcut/counters",
                     std::mem::size_of::<PpllCounters>() as u64,
@@ -144,16 +134,10 @@ impl ShortcutBuffers {
         })
     }
 
-    /// Bytes of the layers, the per-pixel words, the tail targets and the counters, as
+    /// Bytes of the layers, the tail targets and the counters, as
     /// allocated (the figure `shortcut_bytes` predicts).
     pub(crate) fn bytes(&self) -> u64 {
-        let buffers = [
-            &self.keys,
-            &self.colors,
-            &self.counters,
-            &self.far,
-            &self.falloff,
-        ];
+        let buffers = [&self.keys, &self.colors, &self.counters];
         let pixels = u64::from(self.size[0]) * u64::from(self.size[1]);
         buffers.iter().map(|b| b.size()).sum::<u64>() + pixels * target_texel_bytes()
     }
@@ -180,8 +164,6 @@ impl ShortcutBuffers {
                 (1, self.colors.as_entire_binding()),
                 (2, self.counters.as_entire_binding()),
                 (HEAD_DEPTH, wgpu::BindingResource::TextureView(head_depth)),
-                (FAR, self.far.as_entire_binding()),
-                (FALLOFF, self.falloff.as_entire_binding()),
             ],
         )
     }
@@ -216,15 +198,17 @@ mod tests {
     #[test]
     fn memory_is_fixed_by_the_screen_and_k_within_64_mib_at_720p() {
         let mib = |k| shortcut_bytes([1280, 720], k) as f64 / f64::from(1 << 20);
-        for k in 4..=7 {
+        for k in 4..=8 {
             assert!(mib(k) <= 64.0, "k = {k}: {} MiB", mib(k));
         }
         assert!(mib(4) < mib(8));
-        // Per pixel: k keys and k colors (4 bytes each), the k-th key (4), half a falloff word
-        // (2), an R16Float transmittance (2) and an Rgba16Float tail (8); 16 bytes of counters.
+        // Per pixel: 8 keys and 7 colors (4 bytes each), an R16Float transmittance (2) and an
+        // Rgba16Float tail (8); 16 bytes of counters.
         assert_eq!(
             shortcut_bytes([1280, 720], 8),
-            1280 * 720 * (8 * 8 + 4 + 2 + 2 + 8) + 16
+            1280 * 720 * (8 * 4 + 7 * 4 + 2 + 8) + 16
         );
+        // k = 1: one key layer and no color layer (a one-word binding).
+        assert_eq!(shortcut_bytes([2, 2], 1), 4 * (4 + 10) + 4 + 16);
     }
 }

@@ -1,8 +1,8 @@
 // ShortCut resolve pass (after TressFX 4.1's "ShortCut"): a fullscreen pass that blends each
 // pixel's claimed layers front to back (they are sorted by depth) and puts the tail under them:
 // opacity `1 - T` with T the transmittance the shade pass multiplied up, color the weighted mean
-// the shade pass added up (the tail's fragments near the k-th, weighted by their estimated
-// visibility), or that of the farthest of the k where no tail fragment was weighted (see
+// the shade pass added up (the tail's fragments from the k-th on, weighted by their estimated
+// visibility), or that of the farthest layer where no tail fragment was weighted (see
 // `tress_shading::resolve_shortcut`). Premultiplied, blended over the target (One,
 // OneMinusSrcAlpha) like the PPLL resolve. Owner: `ShortcutResolve`.
 
@@ -30,25 +30,27 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     var acc = vec4<f32>(0.0);
     var farthest = vec3<f32>(0.0);
     var stored = 0u;
-    for (var i = 0u; i < shortcut_k(params); i = i + 1u) {
+    for (var i = 0u; i + 1u < shortcut_k(params); i = i + 1u) {
         let v = atomicLoad(&shortcut_keys[i * pixels + p]);
         // Unclaimed layers (none when the passes saw the same fragments) are skipped.
-        if (v & CLAIMED) == 0u {
+        if (v & ALPHA_MASK) == 0u {
             continue;
         }
         let color = unpack_rgb9e5(shortcut_colors[i * pixels + p]);
-        acc = blend_front_to_back(acc, color, bitcast<f32>(v & ~CLAIMED));
+        acc = blend_front_to_back(acc, color, shortcut_alpha(v));
         farthest = color;
         stored = stored + 1u;
     }
-    if stored == 0u {
+    let tail_alpha = 1.0 - textureLoad(transmittance, px, 0).r;
+    let sums = textureLoad(tail, px, 0);
+    let weighted = sums.rgb;
+    let weight = sums.a;
+    if stored == 0u && weight <= 0.0 {
         discard;
     }
-    let tail_alpha = 1.0 - textureLoad(transmittance, px, 0).r;
-    let weighted = textureLoad(tail, px, 0);
     var tail_color = farthest;
-    if weighted.a > 0.0 {
-        tail_color = weighted.rgb / weighted.a;
+    if weight > 0.0 {
+        tail_color = weighted / weight;
     }
     return blend_under(acc, vec4<f32>(tail_color * tail_alpha, tail_alpha));
 }

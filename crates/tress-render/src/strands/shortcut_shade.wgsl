@@ -1,6 +1,7 @@
 // ShortCut shade pass (after TressFX 4.1's "ShortCut"): a fragment whose depth is one of its
-// pixel's k nearest (found by the depth pass) claims that layer, is shaded (the PPLL's own
-// `shade_strand`) and stores its color and alpha there, to be blended in depth order by the
+// pixel's k - 1 nearest (found by the depth pass; the k-th nearest is the tail's threshold)
+// claims that layer, is shaded (the PPLL's own
+// `shade_strand`) and stores its color (and its alpha, in the layer's word) there, to be blended in depth order by the
 // resolve. Every other fragment is the pixel's tail: its opacity is multiplied into the
 // transmittance target (blend `dst * (1 - src)`), so the tail's opacity `1 - Π(1 - alpha)` is
 // exact and independent of order, and the tail fragments near the k-th are shaded and added into
@@ -27,16 +28,17 @@ fn vs_main(@builtin(vertex_index) vertex_index: u32) -> StrandVarying {
     );
 }
 
-// Claim the layer of pixel `p` holding `key`: its index, or MAX_SHORTCUT_K when every layer
-// with this key is taken (a tie beyond k) or none holds it (a tail fragment).
+// Claim the layer of pixel `p` holding `key` among the k - 1 nearest: its index, or
+// MAX_SHORTCUT_K when every such layer with this key is taken (a tie at the threshold) or none
+// holds it (a tail fragment).
 fn claim_layer(p: u32, key: u32, alpha: f32) -> u32 {
     let pixels = shortcut_pixels(params);
-    for (var i = 0u; i < shortcut_k(params); i = i + 1u) {
+    for (var i = 0u; i + 1u < shortcut_k(params); i = i + 1u) {
         let w = i * pixels + p;
         let v = atomicLoad(&shortcut_keys[w]);
         if v == key {
             loop {
-                let r = atomicCompareExchangeWeak(&shortcut_keys[w], key, CLAIMED | bitcast<u32>(alpha));
+                let r = atomicCompareExchangeWeak(&shortcut_keys[w], key, shortcut_claimed(key, alpha));
                 if r.exchanged {
                     return i;
                 }
@@ -44,8 +46,9 @@ fn claim_layer(p: u32, key: u32, alpha: f32) -> u32 {
                     break;
                 }
             }
-        } else if v == 0u || ((v & CLAIMED) == 0u && v < key) {
-            // Layers are sorted nearest first: this and every later layer lie farther away.
+        } else if (v & KEY_MASK) < key {
+            // Layers are sorted nearest first (claimed or not, a word keeps its key): this and
+            // every later layer lie farther away, or are empty.
             break;
         }
     }
@@ -61,17 +64,19 @@ struct ShadeOut {
 
 // The weight a tail fragment adds to the tail's mean color (0: not picked): its color weighted by
 // how much of it the falloff from the k-th depth estimates shows through, over the chance the
-// roulette picked it (`common/shortcut_keys.wgsl`; none when the pixel has no falloff: the
-// resolve then gives the tail the k-th's color). The roulette's number is the strand's, so the
+// roulette picked it (`common/shortcut_keys.wgsl`). Where the pixel has no falloff only the
+// fragments at the threshold (`key == far`: the k-th and its ties) weigh their alpha, so the
+// tail takes the k-th's color (weighing every tail fragment there shaded all of them: dense fur
+// has many pixels whose k nearest tie, and the bear's shade pass took 10x as long). The roulette's number is the strand's, so the
 // fragments of one primitive, shaded side by side, are picked or passed over together. CPU twin:
 // `tress_shading::shortcut_tail_weight`.
-fn tail_weight(in: StrandVarying, alpha: f32, p: u32, far: u32) -> f32 {
-    let falloff = tail_falloff(p);
+fn tail_weight(in: StrandVarying, alpha: f32, p: u32, key: u32, far: u32) -> f32 {
+    let falloff = tail_falloff(params, p, far);
     let z = clamp(in.position.z, 0.0, 1.0);
     let factor = exp(-max(z - shortcut_depth(far), 0.0) * falloff);
     let pick = min(1.0, TAIL_PICK * factor);
     let u = f32(hash_u32(in.strand ^ TAIL_SALT) >> 8u) / 16777216.0;
-    if falloff > 0.0 && u < pick {
+    if (falloff > 0.0 || key == far) && u < pick {
         return alpha * factor / pick;
     }
     return 0.0;
@@ -85,10 +90,11 @@ fn fs_main(in: StrandVarying) -> ShadeOut {
     }
     let p = strand_pixel_index(in, params);
     let key = shortcut_key(in.position.z);
-    let far = shortcut_far[p];
-    // Farther than the pixel's k-th nearest (told by one load), or a tie beyond k: the tail.
+    // The k-th layer's key (0: fewer than k); claiming leaves a word's key as it is.
+    let far = atomicLoad(&shortcut_keys[(shortcut_k(params) - 1u) * shortcut_pixels(params) + p]) & KEY_MASK;
+    // The pixel's k-th nearest or farther (told by one load), or a tie at it: the tail.
     var layer = MAX_SHORTCUT_K;
-    if key >= far {
+    if key > far {
         layer = claim_layer(p, key, alpha);
     }
     var out: ShadeOut;
@@ -97,7 +103,7 @@ fn fs_main(in: StrandVarying) -> ShadeOut {
     var w = 0.0;
     if layer == MAX_SHORTCUT_K {
         out.transmittance = vec4<f32>(alpha, 0.0, 0.0, 0.0);
-        w = tail_weight(in, alpha, p, far);
+        w = tail_weight(in, alpha, p, key, far);
     }
     // One shading call for the claimed and the picked fragments, so a SIMD group holding both
     // shades once.
