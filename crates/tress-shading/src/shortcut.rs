@@ -19,16 +19,16 @@
 //! instead of 10.5 s on lavapipe). Where no falloff is known (k = 1, the `k` nearest at one
 //! depth) the fragments at the threshold weigh their alpha: the tail takes the k-th's color.
 //!
-//! Measured against exact sorting (the fragments of a PPLL frame that held every one, sorted on
-//! the CPU), mean FLIP over the frame at k = 8, bear fur 320x180 (885 tail fragments a pixel on
+//! Measured against exact sorting (the fragments of a PPLL frame that held every one, sorted on the
+//! CPU), mean FLIP over the frame at k = 8, bear fur 320x180 (885 tail fragments a pixel on
 //! average): the farthest layer's color 0.0101, the plain α-weighted mean of the tail 0.044 (the
-//! deep, self-shadowed fur is invisible), these weights 0.0046; at 1280x720 0.0147 and 0.0082;
-//! on the ponytail (320x180) 0.0024 and 0.0027. Fewer spacings (4) suit the ponytail a little
-//! better and the bear worse (0.0056 at 320x180, 0.0091 at 1280x720).
-//! (Those figures predate the k-th's move into the tail, which made `k` layers the former `k -
-//! 1`'s and saved 4 bytes a pixel.) The difference from the PPLL's [`resolve_k_buffer`] (with
-//! `k - 1` sorted) is the tail's color and the layers' precision: a layer is one word, its depth key in 23 bits ([`shortcut_key`]: depths closer
-//! than 1 / 8,388,606 tie) and, once claimed, its fragment's alpha in the other 9 (steps of
+//! deep, self-shadowed fur is invisible), these weights 0.0046; at 1280x720 0.0147 and 0.0082; on
+//! the ponytail (320x180) 0.0024 and 0.0027. Fewer spacings (4) suit the ponytail a little better
+//! and the bear worse (0.0056 at 320x180, 0.0091 at 1280x720). (Those figures predate the k-th's
+//! move into the tail, which made `k` layers the former `k - 1`'s and saved 4 bytes a pixel.) The
+//! difference from the PPLL's [`resolve_k_buffer`] (with `k - 1` sorted) is the tail's color and
+//! the layers' precision: a layer is one word, its depth key in 23 bits ([`shortcut_key`]: depths
+//! closer than 1 / 8,388,606 tie) and, once claimed, its fragment's alpha in the other 9 (steps of
 //! 1 / 510, [`shortcut_layer_alpha`]), so the k-th depth and the layers' spacing stay readable
 //! while the shade pass claims layers and no per-pixel copy of them is needed.
 //!
@@ -131,9 +131,10 @@ pub fn shortcut_tail_falloff(front: &[StrandFragment]) -> f32 {
 }
 
 /// The ShortCut resolve of one pixel's fragments (any order) with `k` sorted layers, over
-/// `background`. Fragments are sorted by their layer keys ([`shortcut_key`]); ties keep their
-/// input order. The layers blend with the alpha they keep ([`shortcut_layer_alpha`]). With `k >= fragments.len()` this is
-/// exact sorted compositing; with `k = 0` nothing is stored and the pixel keeps `background`.
+/// `background`. Fragments are sorted by their layer keys ([`shortcut_key`]); ties keep their input
+/// order. The layers blend with the alpha they keep ([`shortcut_layer_alpha`]). With `k >=
+/// fragments.len()` this is exact sorted compositing; with `k = 0` nothing is stored and the pixel
+/// keeps `background`.
 pub fn resolve_shortcut(fragments: &[ShortcutFragment], k: usize, background: Vec3) -> Vec3 {
     if k == 0 || fragments.is_empty() {
         return background;

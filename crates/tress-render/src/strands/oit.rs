@@ -17,12 +17,12 @@
 //!   tail's threshold, as in TressFX, and its fragment the tail's first) (a layer's word keeps its depth key and
 //!   takes the fragment's alpha in its low bits), multiplies every other fragment's
 //!   opacity into a transmittance target and, for the tail fragments a roulette on a hash of
-//!   their strand picks (likelier near the k-th depth), adds their shaded color weighted by a depth falloff (from the `k` layers' mean spacing)
-//!   into a tail color target, and a resolve blends the `k` layers front to back with the tail under
-//!   them. Its memory is fixed by the screen and `k` (54.5 MiB at 1280x720 with the default
-//!   k = 7, 61.5 MiB at k = 8) and it never drops a fragment. The tail's opacity is exact; its
-//!   color is the falloff-weighted mean of the picked fragments, or the farthest of the `k`
-//!   where none was picked. CPU twin: `tress_shading::resolve_shortcut`.
+//!   their strand picks (likelier near the k-th depth), adds their shaded color weighted by a
+//!   depth falloff (from the `k` layers' mean spacing) into a tail color target, and a resolve blends the `k - 1` layers front to back with the tail
+//!   under them. Its memory is fixed by the screen and `k` (61.5 MiB at 1280x720 with the default
+//!   k = 8, 54.5 MiB at k = 7) and it never drops a fragment. The tail's opacity is exact; its
+//!   color is the falloff-weighted mean of the picked fragments, or the threshold's (the k-th
+//!   and its ties) where no falloff is known. CPU twin: `tress_shading::resolve_shortcut`.
 //! - **Auto**: PPLL while a grown pool holds the frame, ShortCut once a frame asks for more
 //!   nodes than the cap allows, and back to the PPLL when a ShortCut frame's fragment count
 //!   (its depth pass counts them) fits the cap with the growth margin. An offline frame

@@ -2,8 +2,8 @@
 //! claimed fragment's alpha) and `k - 1` of colors, the fragment counter, the tail's
 //! transmittance target and its weighted color target. Their size is fixed by the target and
 //! `k`, never by the hair: at 1280x720, 3.5 MiB a key layer and a color layer, 1.76 MiB of
-//! transmittance and 7.0 MiB of tail color: 54.5 MiB at k = 7 (the default) and 61.5 MiB at
-//! k = 8.
+//! transmittance and 7.0 MiB of tail color: 54.5 MiB at k = 7 and 61.5 MiB at k = 8 (the
+//! default).
 
 use crate::bind::{depth_texture, storage, texture_2d};
 use crate::gpu::screen_layer;

@@ -1,13 +1,12 @@
 // ShortCut shade pass (after TressFX 4.1's "ShortCut"): a fragment whose depth is one of its
-// pixel's k - 1 nearest (found by the depth pass; the k-th nearest is the tail's threshold)
-// claims that layer, is shaded (the PPLL's own
-// `shade_strand`) and stores its color (and its alpha, in the layer's word) there, to be blended in depth order by the
-// resolve. Every other fragment is the pixel's tail: its opacity is multiplied into the
-// transmittance target (blend `dst * (1 - src)`), so the tail's opacity `1 - Π(1 - alpha)` is
-// exact and independent of order, and the tail fragments near the k-th are shaded and added into
-// the tail target with the weight `alpha * exp(-(z - z_k) * falloff)` (`common/shortcut_keys.wgsl`),
-// so the resolve gives the tail their weighted mean color. No fragment is dropped. Owner:
-// `ShortcutShade`.
+// pixel's k - 1 nearest (found by the depth pass; the k-th nearest is the tail's threshold) claims
+// that layer, is shaded (the PPLL's own `shade_strand`) and stores its color (and its alpha, in the
+// layer's word) there, to be blended in depth order by the resolve. Every other fragment is the
+// pixel's tail: its opacity is multiplied into the transmittance target (blend `dst * (1 - src)`),
+// so the tail's opacity `1 - Π(1 - alpha)` is exact and independent of order, and the tail
+// fragments near the k-th are shaded and added into the tail target with the weight `alpha *
+// exp(-(z - z_k) * falloff)` (`common/shortcut_keys.wgsl`), so the resolve gives the tail their
+// weighted mean color. No fragment is dropped. Owner: `ShortcutShade`.
 
 #include "common/strand_fragment.wgsl"
 #include "common/strand_shading.wgsl"
@@ -38,7 +37,8 @@ fn claim_layer(p: u32, key: u32, alpha: f32) -> u32 {
         let v = atomicLoad(&shortcut_keys[w]);
         if v == key {
             loop {
-                let r = atomicCompareExchangeWeak(&shortcut_keys[w], key, shortcut_claimed(key, alpha));
+                let claimed = shortcut_claimed(key, alpha);
+                let r = atomicCompareExchangeWeak(&shortcut_keys[w], key, claimed);
                 if r.exchanged {
                     return i;
                 }
@@ -65,11 +65,11 @@ struct ShadeOut {
 // The weight a tail fragment adds to the tail's mean color (0: not picked): its color weighted by
 // how much of it the falloff from the k-th depth estimates shows through, over the chance the
 // roulette picked it (`common/shortcut_keys.wgsl`). Where the pixel has no falloff only the
-// fragments at the threshold (`key == far`: the k-th and its ties) weigh their alpha, so the
-// tail takes the k-th's color (weighing every tail fragment there shaded all of them: dense fur
-// has many pixels whose k nearest tie, and the bear's shade pass took 10x as long). The roulette's number is the strand's, so the
-// fragments of one primitive, shaded side by side, are picked or passed over together. CPU twin:
-// `tress_shading::shortcut_tail_weight`.
+// fragments at the threshold (`key == far`: the k-th and its ties) weigh their alpha, so the tail
+// takes the k-th's color (weighing every tail fragment there shaded all of them: dense fur has many
+// pixels whose k nearest tie, and the bear's shade pass took 10x as long). The roulette's number is
+// the strand's, so the fragments of one primitive, shaded side by side, are picked or passed over
+// together. CPU twin: `tress_shading::shortcut_tail_weight`.
 fn tail_weight(in: StrandVarying, alpha: f32, p: u32, key: u32, far: u32) -> f32 {
     let falloff = tail_falloff(params, p, far);
     let z = clamp(in.position.z, 0.0, 1.0);
@@ -91,7 +91,8 @@ fn fs_main(in: StrandVarying) -> ShadeOut {
     let p = strand_pixel_index(in, params);
     let key = shortcut_key(in.position.z);
     // The k-th layer's key (0: fewer than k); claiming leaves a word's key as it is.
-    let far = atomicLoad(&shortcut_keys[(shortcut_k(params) - 1u) * shortcut_pixels(params) + p]) & KEY_MASK;
+    let kth = (shortcut_k(params) - 1u) * shortcut_pixels(params) + p;
+    let far = atomicLoad(&shortcut_keys[kth]) & KEY_MASK;
     // The pixel's k-th nearest or farther (told by one load), or a tie at it: the tail.
     var layer = MAX_SHORTCUT_K;
     if key > far {

@@ -21,7 +21,9 @@ fn strand_random(strand: u32, salt: u32) -> f32 {
 // Radiance of a strand fragment from all lights under Marschner's lobes with dual scattering:
 // the unscattered light is the shadow's visibility, the strands in the way those the
 // visibility stands for.
-fn shade_strand_marschner(in: StrandVarying, t: vec3<f32>, v: vec3<f32>, base: vec3<f32>, params: StrandParams) -> vec3<f32> {
+fn shade_strand_marschner(
+    in: StrandVarying, t: vec3<f32>, v: vec3<f32>, base: vec3<f32>, params: StrandParams,
+) -> vec3<f32> {
     var color = lights.ambient * base;
     for (var i = 0u; i < min(lights.count, MAX_LIGHTS); i = i + 1u) {
         let light = lights.lights[i];
@@ -52,7 +54,9 @@ fn shade_strand(in: StrandVarying, camera: Camera, params: StrandParams) -> vec3
 }
 
 // Radiance of a strand fragment from all lights under Kajiya-Kay or Scheuermann's lobes.
-fn shade_strand_kajiya_kay(in: StrandVarying, t: vec3<f32>, v: vec3<f32>, base: vec3<f32>, params: StrandParams) -> vec3<f32> {
+fn shade_strand_kajiya_kay(
+    in: StrandVarying, t: vec3<f32>, v: vec3<f32>, base: vec3<f32>, params: StrandParams,
+) -> vec3<f32> {
     // Scheuermann needs a normal: the direction away from the hair's centre, made perpendicular
     // to the tangent (the view direction when that is degenerate).
     var n = in.world_line - params.hair_center;
