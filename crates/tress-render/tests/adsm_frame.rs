@@ -58,13 +58,35 @@ fn settings() -> StrandSettings {
     }
 }
 
+/// Draw the two strands with `lights` and `material` (ambient `AMBIENT`, cleared to black) and
+/// read the frame back.
+fn frame(
+    ctx: &tress_render::GpuContext,
+    renderer: &mut Renderer,
+    hair: &tress_render::StrandGeometry,
+    lights: &[DirectionalLight],
+    material: Material,
+) -> tress_render::LinearImage {
+    let targets = OffscreenTargets::new(ctx, [SIZE, SIZE], COLOR_FORMAT).unwrap();
+    let inputs = FrameInputs {
+        camera: common::ortho_camera(SIZE),
+        lights,
+        ambient: Vec3::splat(AMBIENT),
+        material,
+        hair: Some(hair),
+        head: None,
+        clear: Some(wgpu::Color::BLACK),
+    };
+    renderer.render(ctx, &targets.targets(), &inputs).unwrap();
+    read_texture(ctx, &targets.color).unwrap()
+}
+
 #[test]
 fn the_receiver_gets_the_analytic_adsm_shadow_from_every_light() {
     let Some(ctx) = common::gpu() else { return };
     let settings = settings();
     let mut renderer = Renderer::new(&ctx, TargetFormats::default(), settings.clone()).unwrap();
     let hair = renderer.upload_hair(&ctx, &strands()).unwrap();
-    let targets = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).unwrap();
     // From the receiver's centre line to the occluder's: the light's direction.
     let to_light = (OCCLUDER - RECEIVER).normalize();
     let d = (OCCLUDER - RECEIVER).length();
@@ -105,20 +127,11 @@ fn the_receiver_gets_the_analytic_adsm_shadow_from_every_light() {
             i
         ];
         lights.push(light);
-        let inputs = FrameInputs {
-            camera: common::ortho_camera(SIZE),
-            lights: &lights,
-            ambient: Vec3::splat(AMBIENT),
-            material: Material {
-                base_color: BASE,
-                ..Material::default()
-            },
-            hair: Some(&hair),
-            head: None,
-            clear: Some(wgpu::Color::BLACK),
+        let material = Material {
+            base_color: BASE,
+            ..Material::default()
         };
-        renderer.render(&ctx, &targets.targets(), &inputs).unwrap();
-        let img = read_texture(&ctx, &targets.color).unwrap();
+        let img = frame(&ctx, &mut renderer, &hair, &lights, material);
         for x in [8, 32, 56] {
             for y in [row - 2, row, row + 2] {
                 let got = Vec3::from_slice(&img.get(x, y).expect("in image")[..3]);
@@ -155,28 +168,18 @@ fn marschner_frames_match_the_cpu_dual_scattering() {
     };
     let mut renderer = Renderer::new(&ctx, TargetFormats::default(), settings.clone()).unwrap();
     let hair = renderer.upload_hair(&ctx, &strands()).unwrap();
-    let targets = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).unwrap();
     let to_light = (OCCLUDER - RECEIVER).normalize();
     let light = DirectionalLight {
         direction: -to_light,
         color: Vec3::new(1.0, 0.9, 0.8),
         intensity: 0.8,
     };
-    let inputs = FrameInputs {
-        camera: common::ortho_camera(SIZE),
-        lights: &[light],
-        ambient: Vec3::splat(AMBIENT),
-        material: Material {
-            base_color: BASE,
-            fiber,
-            ..Material::default()
-        },
-        hair: Some(&hair),
-        head: None,
-        clear: Some(wgpu::Color::BLACK),
+    let material = Material {
+        base_color: BASE,
+        fiber,
+        ..Material::default()
     };
-    renderer.render(&ctx, &targets.targets(), &inputs).unwrap();
-    let img = read_texture(&ctx, &targets.color).unwrap();
+    let img = frame(&ctx, &mut renderer, &hair, &[light], material);
     let m = Marschner::from_fiber(&fiber);
     let ds = DualScattering::from_marschner(&m);
     let radiance = light.color * light.intensity;
