@@ -302,7 +302,8 @@ fn the_volume_looks_like_the_strands_on_fur() {
         return;
     }
     let scene = fur_scene();
-    // Today's defaults: ADSM's occlusion in the volume, the deeper isosurface, AO off in both.
+    // Today's defaults: ADSM's occlusion in the volume, the opacity-weighted composite, AO off
+    // in both.
     let now = hair_flip(&scene, &[]);
     // The paper's counted occlusion, thin isosurface and volume-only AO: far lighter than the
     // strands (the cause of issue 13's "plastic" bear).
@@ -319,8 +320,8 @@ fn the_volume_looks_like_the_strands_on_fur() {
     eprintln!(
         "hair FLIP: defaults {now:.4}, paper settings {paper:.4}, counted occlusion {counted:.4}"
     );
-    // Measured on lavapipe: 0.321, 0.482, 0.458. (This thin fur prefers a thinner isosurface,
-    // iso = 2: 0.208; the bear and ponytail scenes prefer 16, the default.)
+    // Measured on lavapipe: 0.306, 0.474, 0.426 (before the opacity-weighted composite and
+    // ADSM's expected visibility: 0.321, 0.482, 0.458).
     assert!(
         now < 0.75 * paper,
         "defaults {now} vs paper settings {paper}"
@@ -329,7 +330,7 @@ fn the_volume_looks_like_the_strands_on_fur() {
         now < 0.8 * counted,
         "defaults {now} vs counted occlusion {counted}"
     );
-    assert!(now < 0.36, "{now}");
+    assert!(now < 0.34, "{now}");
 }
 
 /// Mean absolute difference of two same-sized images, in 8-bit levels per channel.

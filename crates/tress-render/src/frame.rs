@@ -293,6 +293,12 @@ impl Renderer {
         };
         volume.world_from_clip = types::mat4(inputs.camera.clip_from_world().inverse());
         volume.shading = params.shading;
+        // The strands' tip fade weighs the voxelized tangents (`VolumeParams::fade_ref`).
+        volume.fade_ref = if params.thickness_fade == 1 {
+            params.thickness_ref
+        } else {
+            0.0
+        };
         volume.raster_shadow_mode = u32::from(plan.shadow_mode == ShadowMode::Volume);
         volume.raster_ao = u32::from(plan.raster_ao);
         if self.volume_settings.occlusion == crate::volume::Occlusion::Adsm {
@@ -300,6 +306,12 @@ impl Renderer {
             // alike.
             volume.occlusion_r = self.settings.shadow_r;
             volume.shadow_alpha = self.settings.shadow_alpha;
+            // A shadow-map line's width: `shadow_width_px` texels of the light's map over the
+            // bounding sphere.
+            let radius = bounds.map_or(1.0, |b| b.1);
+            volume.occlusion_width =
+                self.settings.shadow_width_px * 2.0 * radius / self.shadow.size() as f32;
+            volume.occlusion_bias = self.settings.shadow_bias;
         }
         let q = &ctx.queue;
         q.write_buffer(

@@ -229,6 +229,10 @@ fn volume_types_match_wgsl() {
                 strand_width,
                 occlusion,
                 occlusion_r,
+                fade_ref,
+                occlusion_width,
+                occlusion_bias,
+                shade_samples,
                 _pad0,
                 _pad1,
                 _pad2

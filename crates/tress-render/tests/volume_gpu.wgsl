@@ -22,7 +22,7 @@ struct Case {
 @group(0) @binding(2) var volume: texture_3d<f32>;
 @group(0) @binding(3) var volume_sampler: sampler;
 
-const OUTPUTS: u32 = 7u;
+const OUTPUTS: u32 = 8u;
 
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) id: vec3u) {
@@ -52,5 +52,12 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     results[o + 6u] = vec4f(
         volume_shadow_strands(volume, volume_sampler, res, x, l, c.x.w, c.l.w, 1.0),
         volume_ao(volume, volume_sampler, res, x, c.ao.x, u32(c.ao.y), c.ao.z, c.ao.w, 1.0),
-        0.0, 0.0);
+        composite_transmittance(c.s.x, c.s.y),
+        f32(composite_point_reached(c.ao.w, n % 8u, 1u + n % 7u)));
+    // ADSM's expected visibility: line width from the AO radius, ln_keep and bias from the
+    // intensity and alpha inputs.
+    results[o + 7u] = vec4f(
+        volume_adsm_visibility(
+            volume, volume_sampler, res, x, l, c.x.w, c.l.w, 0.25 * c.ao.x, -c.ao.z, 2.0 * c.ao.w),
+        0.0, 0.0, 0.0);
 }

@@ -24,11 +24,12 @@ fn volume() -> VolumeSettings {
         resolution: 48,
         steps: 128,
         ao_radius: 0.1,
-        // The strands occlusion model, the paper's thin isosurface and AO on: what these tests
-        // measure. The scene's unit is about 10 cm and its 1200 strands are sparse: thick
-        // strands make the shadows visible.
+        // The strands occlusion model, a thin isosurface and AO on: what these tests measure.
+        // The scene's unit is about 10 cm and its 1200 strands are sparse: thick strands make
+        // the shadows visible, and 6 strands to the surface (half opaque after 0.75 strands, as
+        // the paper's linear `iso = 2` after one) suit them.
         occlusion: tress_render::volume::Occlusion::Strands,
-        iso: 2.0,
+        iso: 6.0,
         ao: true,
         strand_width: 0.01,
         ..Default::default()
@@ -312,6 +313,20 @@ fn transitions_mix_the_two_renderers() {
         return;
     }
     let mut s = scene();
+    // The head as the volume shadows it in every frame: where the volume is translucent over
+    // the head, the mix is the mean of the two frames only if the head looks the same in both.
+    let settings = StrandSettings {
+        shadow_mode: ShadowMode::Volume,
+        ..strands()
+    };
+    s.renderer.set_settings(&s.ctx, settings).expect("settings");
+    // The head as the volume shadows it in every frame: where the volume is translucent over
+    // the head, the mix is the mean of the two frames only if the head looks the same in both.
+    let settings = StrandSettings {
+        shadow_mode: ShadowMode::Volume,
+        ..strands()
+    };
+    s.renderer.set_settings(&s.ctx, settings).expect("settings");
     let cam = camera(5.0);
     let (strands, _) = s.render(cam, true);
     s.renderer.set_technique(Technique::Volume);
@@ -338,7 +353,7 @@ fn transitions_mix_the_two_renderers() {
             match transition {
                 Transition::Alpha => {
                     let want = [0, 1, 2, 3].map(|k| 0.5 * (a[k] + b[k]));
-                    assert!(near(*m, want), "{m:?} vs {want:?}");
+                    assert!(near(*m, want), "{m:?} vs {want:?} ({a:?}, {b:?})");
                 }
                 Transition::Dither => {
                     assert!(
@@ -503,10 +518,11 @@ fn volume_and_strands_agree_on_where_the_hair_is() {
         return;
     }
     let mut s = scene();
-    // Hair FLIP over the hair's pixels, measured: 0.329 at 5 and 0.260 at 8 (IoU 0.915 and
-    // 0.939). Bounded 10% above, against a frame without hair as the baseline.
+    // Hair FLIP over the hair's pixels, measured: 0.302 at 5 and 0.209 at 8 (IoU 0.934 and
+    // 0.951; before the opacity-weighted composite and ADSM's expected visibility 0.329 and
+    // 0.260). Bounded 10% above, against a frame without hair as the baseline.
     let mut last = f32::INFINITY;
-    for (distance, bound) in [(5.0, 0.36), (8.0, 0.29)] {
+    for (distance, bound) in [(5.0, 0.33), (8.0, 0.23)] {
         let Agreement {
             strands,
             volume,

@@ -1,5 +1,6 @@
 //! Design rule 6 for the volume: the functions of `shaders/common/volume.wgsl` (volume shadows,
-//! local ambient occlusion, density gradient and normal, fake transparency, LOD factor and dither,
+//! local ambient occlusion, ADSM's expected visibility, density gradient and normal, fake
+//! transparency and the composite's transmittance and shading points, LOD factor and dither,
 //! tangent quantization, hashing) evaluated on the GPU over a grid of inputs and a small density
 //! volume sampled by the hardware's trilinear filter, against the CPU twins in
 //! `tress_shading::volume` / `tress_shading::voxelize`.
@@ -15,7 +16,7 @@ use wgpu::util::DeviceExt;
 
 const RES: u32 = 16;
 const CASES: usize = 256;
-const OUTPUTS: usize = 7;
+const OUTPUTS: usize = 8;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -181,11 +182,38 @@ fn volume_functions_match_the_cpu_twins() {
             close("volume_ao", i, r[k][1], ao, 0.02, 0.05);
         }
         close("volume_density", i, r[0][2], vol.sample(x), 0.1, 0.02);
-        assert_eq!(
+        close(
+            "fake_transparency_alpha",
+            i,
             r[0][3],
             cpu::fake_transparency_alpha(c.s[0], c.s[1]),
-            "case {i}"
+            1e-6,
+            1e-5,
         );
+        close(
+            "composite_transmittance",
+            i,
+            r[6][2],
+            cpu::composite_transmittance(c.s[0], c.s[1]),
+            1e-6,
+            1e-5,
+        );
+        assert_eq!(
+            r[6][3] != 0.0,
+            cpu::composite_point_reached(c.ao[3], n % 8, 1 + n % 7),
+            "composite_point_reached, case {i}"
+        );
+        let adsm = cpu::volume_adsm_visibility(
+            &vol,
+            x,
+            l,
+            c.x[3],
+            c.l[3],
+            0.25 * c.ao[0],
+            -c.ao[2],
+            2.0 * c.ao[3],
+        );
+        close("volume_adsm_visibility", i, r[7][0], adsm, 0.02, 0.05);
         let g = cpu::density_gradient(&vol, x);
         for k in 0..3 {
             close("density_gradient", i, r[1][k], g[k], 0.1, 0.03);

@@ -49,10 +49,21 @@ fn run(
     asset: &HairAsset,
     s: &VolumeSettings,
 ) -> (VolumeReadback, VoxelCounts, tress_render::VolumeStats) {
+    run_faded(asset, s, None)
+}
+
+/// `run` with the tip fade of `fade_ref` (the asset's thickness) on both sides.
+fn run_faded(
+    asset: &HairAsset,
+    s: &VolumeSettings,
+    fade_ref: Option<f32>,
+) -> (VolumeReadback, VoxelCounts, tress_render::VolumeStats) {
     let ctx = common::gpu().expect("checked by the caller");
     let geometry = StrandGeometry::new(&ctx, asset).expect("upload");
     let mut voxelizer = Voxelizer::new(&ctx, s.resolution).expect("voxelizer");
-    let stats = voxelizer.voxelize(&ctx, &geometry, s).expect("voxelize");
+    let stats = voxelizer
+        .voxelize_faded(&ctx, &geometry, s, fade_ref.unwrap_or(0.0))
+        .expect("voxelize");
     let gpu = voxelizer.read_back(&ctx).expect("readback");
     // The GPU's box is the exact box of the vertices; its grid is the CPU fit of that box up to
     // the rounding of one division.
@@ -79,6 +90,7 @@ fn run(
         &g,
         s.voxelize,
         s.max_strands_per_voxel,
+        fade_ref.map(|r| (asset.thickness().expect("thickness"), r)),
     );
     (gpu, cpu, stats)
 }
@@ -350,5 +362,51 @@ fn the_renderer_refuses_a_resolution_the_device_cannot_hold() {
         r.volume_settings().resolution,
         256,
         "the settings are unchanged"
+    );
+}
+
+#[test]
+fn the_tip_fade_weighs_the_tangents_as_the_cpu_reference_does() {
+    if common::gpu().is_none() {
+        return;
+    }
+    // Every strand tapers from thickness 1 at the root to 0.1 at the tip.
+    let base = asset();
+    let mut thickness = Vec::with_capacity(base.positions().len());
+    for strand in base.strands() {
+        let n = strand.len().max(2) - 1;
+        thickness.extend((0..strand.len()).map(|i| 1.0 - 0.9 * i as f32 / n as f32));
+    }
+    let tapered = base.with_thickness(thickness).expect("thickness");
+    let s = settings(VoxelizeMode::Segments);
+    let (gpu, cpu, _) = run_faded(&tapered, &s, Some(1.0));
+    let (_, plain, _) = run(&tapered, &s);
+    assert_eq!(gpu.counts, cpu.counts, "the fade leaves the density alone");
+    assert_eq!(cpu.counts, plain.counts);
+    let (mut faded_len, mut plain_len, mut n) = (0.0, 0.0, 0);
+    for (i, (g, c)) in gpu.tangent_sums.iter().zip(&cpu.tangent_sums).enumerate() {
+        let count = cpu.counts[i];
+        if count == 0 {
+            continue;
+        }
+        for k in 0..3 {
+            let d = (g[k] as f32 - c[k] as f32).abs() / count as f32;
+            assert!(
+                d <= 1.0,
+                "voxel {i}: tangent sums differ by {d} levels per sample"
+            );
+        }
+        let mean = |sum: UVec3| voxelize::dequantize_tangent(sum.as_vec3(), count as f32).length();
+        faded_len += mean(UVec3::from_array(*g));
+        plain_len += mean(plain.tangent_sums[i]);
+        n += 1;
+    }
+    // The mean fade of a linear taper from 1 to 0.1 is 0.55; voxels near the roots of many
+    // strands weigh more, so the mean tangent's length falls to between 0.4 and 0.8 of the
+    // unfaded one.
+    let ratio = faded_len / plain_len;
+    assert!(
+        n > 100 && (0.4..0.8).contains(&ratio),
+        "{n} voxels, ratio {ratio}"
     );
 }

@@ -162,3 +162,17 @@ fn the_shadow_strand_cap_mirrors_the_cpu_twin() {
         f64::from(tress_shading::MAX_SHADOW_STRANDS)
     );
 }
+
+#[test]
+fn the_volume_constants_mirror_the_settings() {
+    let text = shaders::compose("common/volume.wgsl").expect("composes");
+    let module = validate("common/volume.wgsl", &text);
+    assert_eq!(
+        scalar_const(&module, "MAX_SHADE_SAMPLES"),
+        f64::from(tress_render::volume::MAX_SHADE_SAMPLES)
+    );
+    assert_eq!(
+        scalar_const(&module, "OCCUPANCY_BLOCK"),
+        f64::from(tress_render::volume::OCCUPANCY_BLOCK)
+    );
+}

@@ -46,6 +46,7 @@ fn bench_mode(bencher: Bencher<'_, '_>, res: u32, mode: Option<VoxelizeMode>) {
             &grid,
             mode,
             MAX_CAPACITY,
+            None,
         )
     });
 }

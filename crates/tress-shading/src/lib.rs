@@ -59,7 +59,8 @@
 //! | [`volume_shadow_strands`]`(vol, x: Vec3, l: Vec3, step: f32, offset: f32) -> f32` | `volume_shadow_strands(tex, samp, res: f32, x, l: vec3f, step, offset: f32) -> f32` |
 //! | [`ao_offset`]`(i: u32, n: u32) -> Vec3`, [`volume_ao`]`(vol, x: Vec3, radius: f32, samples: u32, intensity: f32, alpha: f32) -> f32` | `ao_offset(i, n: u32) -> vec3f`, `volume_ao(tex, samp, res: f32, x: vec3f, radius: f32, samples: u32, intensity, alpha: f32) -> f32` |
 //! | [`density_gradient`]`(vol, x: Vec3) -> Vec3`, [`density_normal`]`(gradient: Vec3, fallback: Vec3) -> Vec3` | `density_gradient(tex, samp, res: f32, x: vec3f) -> vec3f`, `density_normal(gradient, fallback: vec3f) -> vec3f` |
-//! | [`fake_transparency_alpha`]`(strands: f32, iso: f32) -> f32` | `fake_transparency_alpha(strands: f32, iso: f32) -> f32` |
+//! | [`volume_adsm_visibility`]`(vol, x, l: Vec3, step, offset, width, ln_keep, bias: f32) -> f32` | `volume_adsm_visibility(tex, samp, res: f32, x, l: vec3f, step, offset, width, ln_keep, bias: f32) -> f32` |
+//! | [`composite_transmittance`]`(strands, iso: f32) -> f32`, [`fake_transparency_alpha`]`(strands: f32, iso: f32) -> f32`, [`composite_point_reached`]`(tr: f32, m, k: u32) -> bool` | `composite_transmittance(strands, iso: f32) -> f32`, `fake_transparency_alpha(strands: f32, iso: f32) -> f32`, `composite_point_reached(tr: f32, m, k: u32) -> bool` |
 //! | [`lod_factor`]`(distance, near, far: f32) -> f32`, [`dither_threshold`]`(px: UVec2) -> f32` | `lod_factor(distance, near, far: f32) -> f32`, `dither_threshold(px: vec2u) -> f32` |
 //!
 //! Physically based hair (`shading = "marschner"`): the real-time lobes of [`marschner`] (Karis
@@ -123,13 +124,14 @@ pub use shortcut::{
     shortcut_key_depth, shortcut_layer_alpha, shortcut_tail_falloff, shortcut_tail_weight,
 };
 pub use volume::{
-    DensityVolume, NO_CAP, VolumeSizeError, ao_offset, density_gradient, density_normal,
-    dither_threshold, fake_transparency_alpha, lod_factor, ray_box, volume_ao,
+    DensityVolume, NO_CAP, VolumeSizeError, ao_offset, composite_point_reached,
+    composite_transmittance, density_gradient, density_normal, dither_threshold,
+    fake_transparency_alpha, lod_factor, ray_box, volume_adsm_visibility, volume_ao,
     volume_shadow_strands,
 };
 pub use voxelize::{
     VoxelCounts, VoxelGrid, VoxelValue, VoxelizeMode, dequantize_tangent, quantize_tangent,
-    voxel_hash, voxelize,
+    segment_fade, voxel_hash, voxelize,
 };
 
 /// `sqrt(1 - c²)`, the sine of the angle whose cosine is `c`, clamped so a `|c|` rounded slightly

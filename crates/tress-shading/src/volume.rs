@@ -7,16 +7,22 @@
 //! of strands. The density volume is read through [`DensityVolume`], the CPU stand-in for the
 //! trilinearly filtered 3D texture (texel centres at `i + 1/2`, clamp to edge).
 //!
-//! - **Surface (§3.3).** The raymarcher accumulates `density · step` along the eye ray; a
-//!   "solid" isosurface is where the sum first reaches `iso` strands. A ray that never gets there
-//!   but met hair is shaded at its first non-empty sample with the opacity
-//!   [`fake_transparency_alpha`] `= saturate(strands / iso)`: the paper's "fake transparency",
-//!   continuous with the solid case (alpha 1 at `iso`). The shading normal is [`density_normal`],
-//!   `-∇density` normalized.
+//! - **Surface (§3.3).** The raymarcher accumulates `density · step` along the eye ray, each
+//!   strand weighed by its opacity fade; the hair's transmittance falls as
+//!   [`composite_transmittance`] `= 256^(-strands / iso)`, and the "solid" isosurface is where the
+//!   sum first reaches `iso` (1/256 left). The colour is the mean of the shading at the points
+//!   where the transmittance falls through equal shares of the composite's weight
+//!   ([`composite_point_reached`]), so the whole depth the rasterizer's composite reaches is
+//!   shaded, not one point. A ray that never gets to the surface has the opacity
+//!   [`fake_transparency_alpha`] `= 1 - transmittance`: the paper's "fake transparency",
+//!   continuous with the solid case. The shading normal is [`density_normal`], `-∇density`
+//!   normalized.
 //! - **Volume shadows (§3.4).** [`volume_shadow_strands`] marches from the point towards the
 //!   light and counts the strands passed; times the share in the ray's way
 //!   (`strand_width / voxel_size`, applied by the renderer) that count replaces ADSM's `d · r` in
 //!   [`crate::strand_visibility`]`(n, alpha) = (1 - alpha)^n`.
+//!   With ADSM's model the renderer uses [`volume_adsm_visibility`] instead: the expectation of
+//!   ADSM's `(1 - alpha)^(r · (d - bias))` over where the first strand seen from the light lies.
 //! - **Local ambient occlusion (§3.4).** [`volume_ao`] averages the density at `samples` points
 //!   spread evenly through a ball of radius `radius` around the point ([`ao_offset`]: a Fibonacci
 //!   spiral of directions at radii `cbrt(u)`, `u` a golden-ratio sequence, uniform in volume).
@@ -29,7 +35,7 @@
 
 use glam::{UVec2, Vec3};
 
-use crate::{saturate, smoothstep, strand_visibility};
+use crate::{smoothstep, strand_visibility};
 
 /// Most marching steps a shadow ray takes (a safety bound; a `1024³` grid needs at most
 /// `1024 · √3 / step`).
@@ -203,13 +209,59 @@ pub fn density_normal(gradient: Vec3, fallback: Vec3) -> Vec3 {
     }
 }
 
-/// Opacity of a "non-solid" hit (§3.3, fake transparency): `saturate(strands / iso)`; 1 when
+/// Transmittance of the hair after `strands` (opacity-weighted) strands along an eye ray:
+/// `256^(-strands / iso)`, so 1/256 at the isosurface (`strands = iso`); 0 when `iso <= 0`.
+pub fn composite_transmittance(strands: f32, iso: f32) -> f32 {
+    if iso <= 0.0 {
+        return 0.0;
+    }
+    (-8.0 * strands.max(0.0) / iso).exp2()
+}
+
+/// Opacity of a "non-solid" hit (§3.3, fake transparency): `1 - composite_transmittance`; 1 when
 /// `iso <= 0`.
 pub fn fake_transparency_alpha(strands: f32, iso: f32) -> f32 {
-    if iso <= 0.0 {
-        return 1.0;
+    1.0 - composite_transmittance(strands, iso)
+}
+
+/// Whether the transmittance `tr` has fallen to shading point `m` of `k`: the points split the
+/// composite's weight `1 - tr` into `k` equal shares and sit at their middles,
+/// `tr <= 1 - (m + 1/2) / k`.
+pub fn composite_point_reached(tr: f32, m: u32, k: u32) -> bool {
+    tr <= 1.0 - (m as f32 + 0.5) / k.max(1) as f32
+}
+
+/// ADSM's visibility `(1 - alpha)^(r · (d - bias))` at voxel position `x` towards unit `l`, in
+/// expectation over where the first strand seen from the light lies (`d` its distance from the
+/// point). Marching out from `max(offset, t_enter)` in `step`s, a step holds a strand of a
+/// shadow-map line `width` voxels wide with probability `p = 1 - exp(-density · step · width)`,
+/// and a farther one replaces a nearer: `seen ← seen · (1 - p) + p · exp(ln_keep · max(t - bias,
+/// 0))`, `none ← none · (1 - p)`; the result is `seen + none`. `ln_keep` is `r · ln(1 - alpha)`
+/// per voxel, `bias` in voxels.
+#[allow(clippy::too_many_arguments)]
+pub fn volume_adsm_visibility(
+    vol: &DensityVolume<'_>,
+    x: Vec3,
+    l: Vec3,
+    step: f32,
+    offset: f32,
+    width: f32,
+    ln_keep: f32,
+    bias: f32,
+) -> f32 {
+    let res = vol.res() as f32;
+    let (t0, t1) = ray_box(x, l, Vec3::ZERO, Vec3::splat(res));
+    let mut t = offset.max(t0);
+    let (mut seen, mut none) = (0.0, 1.0);
+    let mut i = 0;
+    while i < MAX_MARCH_STEPS && t < t1 {
+        let p = 1.0 - (-vol.sample(x + l * t) * step * width).exp();
+        seen = seen * (1.0 - p) + p * (ln_keep * (t - bias).max(0.0)).exp();
+        none *= 1.0 - p;
+        t += step;
+        i += 1;
     }
-    saturate(strands / iso)
+    seen + none
 }
 
 /// Level-of-detail blend factor (0: strands, 1: volume) from the camera distance:
@@ -328,9 +380,68 @@ mod tests {
     }
 
     #[test]
+    fn adsm_visibility_is_the_expectation_over_the_first_strand_from_the_light() {
+        // Empty volume: nothing in the way.
+        let zero = vec![0.0; 16 * 16 * 16];
+        let empty = DensityVolume::new(16, &zero).unwrap();
+        let x = Vec3::new(8.0, 8.0, 2.5);
+        assert_eq!(
+            volume_adsm_visibility(&empty, x, Vec3::Z, 1.0, 1.0, 0.5, -0.3, 0.0),
+            1.0
+        );
+        // Opaque hair everywhere (every step holds a strand): the first strand from the light is
+        // at the last step inside the grid, so the visibility is ADSM's at that distance.
+        let full = vec![64.0; 16 * 16 * 16];
+        let dense = DensityVolume::new(16, &full).unwrap();
+        let (step, ln_keep, bias) = (1.0, -0.3, 0.5);
+        let v = volume_adsm_visibility(&dense, x, Vec3::Z, step, 1.0, 1.0, ln_keep, bias);
+        // From z = 2.5 with offset 1 the march samples t = 1, 2, ..., 13 (z = 15.5, the last
+        // texel centre inside the grid).
+        let last = 13.0;
+        let adsm = (ln_keep * (last - bias)).exp();
+        assert!((v - adsm).abs() < 1e-6, "{v} vs {adsm}");
+        // One thin sheet of hair at distance D: a share p of rays sees it (ADSM at D), the
+        // rest sees nothing.
+        let mut sheet = vec![0.0; 16 * 16 * 16];
+        for y in 0..16 {
+            for xx in 0..16 {
+                sheet[xx + 16 * (y + 16 * 10)] = 0.5;
+            }
+        }
+        let s = DensityVolume::new(16, &sheet).unwrap();
+        let x = Vec3::new(8.0, 8.0, 4.5);
+        let width = 0.8;
+        let v = volume_adsm_visibility(&s, x, Vec3::Z, 1.0, 0.0, width, ln_keep, 0.0);
+        // The march samples z = 4.5, 5.5, ...: only z = 10.5 (t = 6) holds the sheet's texel.
+        let p = 1.0 - (-0.5f32 * width).exp();
+        let expected = p * (ln_keep * 6.0).exp() + (1.0 - p);
+        assert!((v - expected).abs() < 1e-6, "{v} vs {expected}");
+        // More hair between the point and the light only darkens.
+        let thicker = volume_adsm_visibility(&s, x, Vec3::Z, 1.0, 0.0, 2.0 * width, ln_keep, 0.0);
+        assert!(thicker < v);
+    }
+
+    #[test]
+    fn composite_transmittance_and_its_shading_points() {
+        assert_eq!(composite_transmittance(0.0, 48.0), 1.0);
+        assert!((composite_transmittance(48.0, 48.0) - 1.0 / 256.0).abs() < 1e-9);
+        assert!((composite_transmittance(24.0, 48.0) - 1.0 / 16.0).abs() < 1e-8);
+        assert_eq!(composite_transmittance(5.0, 0.0), 0.0);
+        // k points at the middles of k equal shares of the weight: for k = 4 at 7/8, 5/8, 3/8, 1/8.
+        let k = 4;
+        let at: Vec<f32> = (0..k).map(|m| 1.0 - (m as f32 + 0.5) / k as f32).collect();
+        assert_eq!(at, [0.875, 0.625, 0.375, 0.125]);
+        for (m, &tr) in at.iter().enumerate() {
+            assert!(composite_point_reached(tr, m as u32, k));
+            assert!(!composite_point_reached(tr + 1e-3, m as u32, k));
+        }
+    }
+
+    #[test]
     fn transparency_lod_and_dither() {
-        assert_eq!(fake_transparency_alpha(1.0, 4.0), 0.25);
-        assert_eq!(fake_transparency_alpha(9.0, 4.0), 1.0);
+        assert_eq!(fake_transparency_alpha(0.0, 4.0), 0.0);
+        assert!((fake_transparency_alpha(1.0, 4.0) - (1.0 - 0.25)).abs() < 1e-7);
+        assert!(fake_transparency_alpha(9.0, 4.0) > 0.99);
         assert_eq!(fake_transparency_alpha(0.0, 0.0), 1.0);
         assert_eq!(lod_factor(1.0, 2.0, 4.0), 0.0);
         assert_eq!(lod_factor(3.0, 2.0, 4.0), 0.5);

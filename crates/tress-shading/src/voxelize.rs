@@ -264,20 +264,32 @@ pub fn strand_segments(strand_offsets: &[u32]) -> Vec<[u32; 2]> {
     out
 }
 
+/// The strands' tip fade of a segment: its mean vertex thickness over `reference` (the
+/// thickness that fades nothing), saturated; WGSL twin in `volume/voxelize.wgsl`.
+pub fn segment_fade(t0: f32, t1: f32, reference: f32) -> f32 {
+    crate::saturate(0.5 * (t0 + t1) / reference)
+}
+
 /// Voxelize strands into `grid` (module docs). `segments` are `(first vertex, strand)` pairs
-/// ([`strand_segments`]); `cap` is the per-voxel capacity, `1..=MAX_CAPACITY`.
+/// ([`strand_segments`]); `cap` is the per-voxel capacity, `1..=MAX_CAPACITY`. With `fade`
+/// (per-vertex thickness and the thickness that fades nothing) each sample's tangent is weighed
+/// by its segment's [`segment_fade`] before quantization, so a voxel's mean tangent has the length
+/// of its strands' mean opacity fade (times their coherence): what the raymarcher weighs the
+/// density with.
 pub fn voxelize(
     positions: &[Vec3],
     segments: &[[u32; 2]],
     grid: &VoxelGrid,
     mode: VoxelizeMode,
     cap: u32,
+    fade: Option<(&[f32], f32)>,
 ) -> VoxelCounts {
     let mut out = VoxelCounts::new(*grid);
     for (s, seg) in segments.iter().enumerate() {
         let (v0, v1) = (seg[0] as usize, seg[0] as usize + 1);
         let (p0, p1) = (positions[v0], positions[v1]);
-        let tq = quantize_tangent(segment_tangent(p0, p1));
+        let w = fade.map_or(1.0, |(t, r)| segment_fade(t[v0], t[v1], r));
+        let tq = quantize_tangent(segment_tangent(p0, p1) * w);
         let (q0, q1) = (grid.fixed_point(p0), grid.fixed_point(p1));
         match mode {
             VoxelizeMode::Segments => {
@@ -446,7 +458,7 @@ mod tests {
                 .map(|i| Vec3::new(i as f32 * seg_len, 0.5, 0.5))
                 .collect();
             let segments = strand_segments(&[0, positions.len() as u32]);
-            let c = voxelize(&positions, &segments, &g, VoxelizeMode::Segments, 255);
+            let c = voxelize(&positions, &segments, &g, VoxelizeMode::Segments, 255, None);
             let total: u32 = c.counts.iter().sum();
             let length = n as f32 * seg_len * g.scale;
             assert!(
@@ -459,13 +471,58 @@ mod tests {
     }
 
     #[test]
+    fn the_tip_fade_weighs_the_mean_tangent() {
+        // One straight strand along x tapering from thickness 1 to 0.1: the mean tangent of
+        // each voxel it crosses points along x with the length of the fade there.
+        let g = VoxelGrid::fit(Vec3::ZERO, Vec3::new(28.0, 1.0, 1.0), 32);
+        let n = 28;
+        let positions: Vec<Vec3> = (0..=n).map(|i| Vec3::new(i as f32, 0.5, 0.5)).collect();
+        let thickness: Vec<f32> = (0..=n).map(|i| 1.0 - 0.9 * i as f32 / n as f32).collect();
+        let segments = strand_segments(&[0, positions.len() as u32]);
+        let faded = voxelize(
+            &positions,
+            &segments,
+            &g,
+            VoxelizeMode::Segments,
+            255,
+            Some((&thickness, 1.0)),
+        );
+        let plain = voxelize(&positions, &segments, &g, VoxelizeMode::Segments, 255, None);
+        assert_eq!(
+            faded.counts, plain.counts,
+            "the fade leaves the density alone"
+        );
+        let mut checked = 0;
+        for (i, &c) in faded.counts.iter().enumerate() {
+            if c == 0 {
+                continue;
+            }
+            let t = dequantize_tangent(faded.tangent_sums[i].as_vec3(), c as f32);
+            let x = (i as u32 % g.res) as f32 + 0.5;
+            let fade = 1.0 - 0.9 * (x / g.scale + g.origin.x) / n as f32;
+            // Samples of a voxel span about one segment: the fade within 0.05 of the centre's,
+            // plus a quantization level.
+            assert!(
+                (t.length() - fade).abs() < 0.06,
+                "voxel {i}: {} vs {fade}",
+                t.length()
+            );
+            assert!(t.normalize().x > 0.99);
+            checked += 1;
+        }
+        assert!(checked > 20, "{checked}");
+        assert_eq!(segment_fade(0.5, 0.7, 1.0), 0.6);
+        assert_eq!(segment_fade(2.0, 2.0, 1.0), 1.0);
+    }
+
+    #[test]
     fn vertices_mode_leaves_gaps_that_the_filter_covers() {
         let g = VoxelGrid::fit(Vec3::ZERO, Vec3::new(28.0, 1.0, 1.0), 32);
         let positions: Vec<Vec3> = (0..=9)
             .map(|i| Vec3::new(i as f32 * 3.0, 0.5, 0.5))
             .collect();
         let segments = strand_segments(&[0, 10]);
-        let c = voxelize(&positions, &segments, &g, VoxelizeMode::Vertices, 255);
+        let c = voxelize(&positions, &segments, &g, VoxelizeMode::Vertices, 255, None);
         assert_eq!(c.deposits, 10);
         let q = |x: f32| g.fixed_point(Vec3::new(x, 0.5, 0.5)) >> SUBVOXEL_BITS;
         // Between two vertices the voxels are empty...
@@ -493,7 +550,7 @@ mod tests {
         // 40 vertices in one voxel, capacity 16.
         let positions = vec![Vec3::splat(0.5); 40];
         let segments = strand_segments(&[0, 40]);
-        let c = voxelize(&positions, &segments, &g, VoxelizeMode::Vertices, 16);
+        let c = voxelize(&positions, &segments, &g, VoxelizeMode::Vertices, 16, None);
         assert_eq!((c.deposits, c.dropped), (40, 24));
         let i = g.index(g.fixed_point(Vec3::splat(0.5)) >> SUBVOXEL_BITS);
         assert_eq!((c.counts[i], c.clamped(i, 16)), (40, 16));

@@ -406,6 +406,14 @@ pub struct VolumeParams {
     pub occlusion: u32,
     /// ADSM's `r` (strands per world unit of depth) for `occlusion` 1.
     pub occlusion_r: f32,
+    /// Thickness that fades nothing (the strands' tip fade; 0: no fade).
+    pub fade_ref: f32,
+    /// ADSM's model: width in world units of a shadow-map line.
+    pub occlusion_width: f32,
+    /// ADSM's model: the depth bias in world units.
+    pub occlusion_bias: f32,
+    /// Raymarch: points shaded per pixel.
+    pub shade_samples: u32,
     /// Padding.
     pub _pad0: u32,
     /// Padding.

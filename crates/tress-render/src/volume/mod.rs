@@ -41,9 +41,23 @@
 //! - **Raymarch (§3.3 "Surface", "Shading").** The AABB's back faces are rasterized (so the camera
 //!   may be inside the box); each fragment intersects its eye ray with the box and marches
 //!   `steps` constant steps (default 512, the paper's) across the box diagonal, accumulating
-//!   `density · step` strands until `iso` strands: the solid isosurface, shaded opaque. A ray that
-//!   never gets there but met hair is shaded at its first non-empty sample with opacity
-//!   `saturate(strands / iso)` (fake transparency). The march stops at the scene depth (the head).
+//!   `density · step` strands, each weighed by its tip fade (below), until `iso` strands: the
+//!   solid isosurface. On the way the hair's transmittance falls as `256^(-strands / iso)`
+//!   (1/256 at the surface), and the colour is the mean of the shading at `shade_samples` points
+//!   (default 4), where the transmittance falls through the middles of equal shares of the
+//!   composite's weight: the depth the rasterizer's composite of the same strands reaches, not
+//!   the paper's one point at the surface (`shade_samples = 1` shades where half the weight is
+//!   reached). A ray that never gets to the surface but met hair has the opacity
+//!   `1 - transmittance` (fake transparency) and is shaded at the points it reached (its first
+//!   non-empty sample when none). The march stops at the scene depth (the head).
+//! - **Tip fade.** Under `strands.thickness_fade = "tip"` the rasterizer fades a strand's alpha
+//!   with its thickness, so the tips of tapered hair are nearly transparent and the composite
+//!   reaches deep into fur. The voxelizer weighs each sample's tangent by its segment's thickness
+//!   over the asset's thickest (`tress_shading::segment_fade`), so the mean tangent's length is
+//!   the voxel's mean fade (times the strands' coherence), and the raymarcher weighs the density
+//!   with that length. Measured on the generated bear (`tress compare scenes/bear.toml --width
+//!   640 --height 360`): without the fade the volume's surface sits in the faded tips and is far
+//!   lighter than the strands.
 //!   Shading is the strands' model from `shading.wgsl` (Kajiya-Kay; Scheuermann with the normal)
 //!   with the mean tangent of the volume, normal `-∇density`, base color from the material (the
 //!   volume carries no vertex colors). `skip_empty = true` jumps over empty occupancy blocks to the
@@ -59,10 +73,17 @@
 //!   0.002 world units (20 µm in the centimetre-like units of the generators), makes the demo
 //!   ponytail's volume shadows about as deep as ADSM's default `r = 4` per unit. The rasterizer uses it with
 //!   `strands.shadow_mode = "volume"` (then no shadow maps are rendered), the head too. That is
-//!   `occlusion = "strands"`; the default, `occlusion = "adsm"` ([`Occlusion`]), marches
-//!   `min(density, 1)` instead (the path's length inside the hair) and raises `1 - alpha` to ADSM's
-//!   `r · d` with the strands' `shadow_r` and `shadow_alpha`, so the volume darkens as the
-//!   rasterizer's deep shadow maps do (on fur the counted model is about five times lighter).
+//!   `occlusion = "strands"`. The default, `occlusion = "adsm"` ([`Occlusion`]), gives shadows
+//!   ADSM's model with the strands' `shadow_r`, `shadow_alpha` and `shadow_bias`: ADSM darkens a
+//!   point by `(1 - alpha)^(r · (d - bias))`, `d` its distance behind the first strand the light's
+//!   depth map holds, and the volume takes the expectation of that over where the first strand
+//!   lies (`volume_adsm_visibility` in `common/volume.wgsl`): marching out towards the light, a
+//!   step holds a strand of a shadow-map line (`strands.shadow_width_px` texels of the light's
+//!   map, in world units) with probability `1 - exp(-density · step · width)`, a farther one
+//!   replacing a nearer. So sparse fuzz casts little, gaps between strands count as ADSM counts
+//!   them, and the shadow no longer depends on where the surface point sits in a voxel (the
+//!   earlier `min(density, 1)` path length gave blotchy shadows on fur and too dark ones on the
+//!   ponytail).
 //! - **Local ambient occlusion (§3.4).** The mean density at `ao_samples` points spread through a
 //!   ball of `ao_radius` (world units) around the point, times the radius, is the number of
 //!   strands an average ray passes; with the same width factor and `ao_intensity`,
@@ -97,6 +118,9 @@ use crate::{GpuContext, RenderError};
 
 /// Edge of an occupancy block in voxels (`OCCUPANCY_BLOCK` in `common/volume.wgsl`).
 pub const OCCUPANCY_BLOCK: u32 = 8;
+
+/// Most points the raymarcher shades per pixel (`MAX_SHADE_SAMPLES` in `common/volume.wgsl`).
+pub const MAX_SHADE_SAMPLES: u32 = 8;
 
 /// Where the strand rasterizer (and the head) gets its self-shadowing from.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -169,10 +193,14 @@ pub struct VolumeSettings {
     pub max_strands_per_voxel: u32,
     /// Raymarching steps across the box diagonal (the paper: 512).
     pub steps: u32,
-    /// Strands along a ray to a solid isosurface (default 16: where the rasterizer's composite
-    /// of the same strands is as dark; measured by `tress compare` on the fur and ponytail
-    /// scenes).
+    /// Strands along a ray to a solid isosurface, each weighed by its tip fade: the hair's
+    /// transmittance falls as `256^(-strands / iso)`, to 1/256 there (default 48: where the
+    /// rasterizer's composite of the same strands is as deep; measured by `tress compare` on the
+    /// fur and ponytail scenes).
     pub iso: f32,
+    /// Points shaded per pixel, `1..=8`: each at the middle of an equal share of the composite's
+    /// weight along the ray (default 4; 1 shades where half the weight is reached).
+    pub shade_samples: u32,
     /// Jump over empty blocks of the occupancy volume (off: the paper).
     pub skip_empty: bool,
     /// Volume shadows in the raymarcher.
@@ -210,7 +238,8 @@ impl Default for VolumeSettings {
             reconstruction_radius: 1,
             max_strands_per_voxel: 255,
             steps: 512,
-            iso: 16.0,
+            iso: 48.0,
+            shade_samples: 4,
             skip_empty: false,
             shadows: true,
             occlusion: Occlusion::Adsm,
@@ -249,6 +278,12 @@ impl VolumeSettings {
         }
         if !(self.iso > 0.0 && self.iso.is_finite()) {
             return bad("iso", "must be positive and finite");
+        }
+        if !(1..=MAX_SHADE_SAMPLES).contains(&self.shade_samples) {
+            return bad(
+                "shade_samples",
+                &format!("must be in 1..={MAX_SHADE_SAMPLES}"),
+            );
         }
         if !(0.0..=1.0).contains(&self.shadow_alpha) {
             return bad("shadow_alpha", "must be in [0, 1]");

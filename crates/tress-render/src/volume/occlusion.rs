@@ -12,10 +12,12 @@ use crate::RenderError;
 /// model says how the march's samples become that number.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Occlusion {
-    /// ADSM's model (`"adsm"`, the default): `r` strands in the way per world unit of the path
-    /// inside the hair (voxels holding a strand or more), with the strands' `shadow_r` and
-    /// `shadow_alpha`. The volume darkens exactly as the rasterizer's deep shadow maps do, so the
-    /// two techniques (and the hybrid's blend between them) agree however dense the hair is.
+    /// ADSM's model (`"adsm"`, the default), with the strands' `shadow_r`, `shadow_alpha` and
+    /// `shadow_bias`. Shadows: the expectation of ADSM's `(1 - alpha)^(r · (d - bias))` over
+    /// where the first strand seen from the light lies (module docs). Ambient occlusion: `r`
+    /// strands in the way per world unit of the path inside the hair (voxels holding a strand or
+    /// more). The volume darkens as the rasterizer's deep shadow maps do, so the two techniques
+    /// (and the hybrid's blend between them) agree however dense the hair is.
     #[default]
     Adsm,
     /// The strands counted (`"strands"`): every strand passing through a voxel is in the way

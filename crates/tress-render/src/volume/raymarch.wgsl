@@ -123,11 +123,16 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     let lo = voxel_from_world(volume_grid, volume_grid.bounds_min);
     let hi = voxel_from_world(volume_grid, volume_grid.bounds_max);
     let step = length(hi - lo + vec3<f32>(2.0)) / f32(max(volume_params.steps, 1u));
+    // Strands met, each weighed by its opacity fade (the length of the voxel's mean tangent).
     var strands = 0.0;
     var hit = false;
     var solid = false;
     var first = vec3<f32>(0.0);
-    var surface = vec3<f32>(0.0);
+    // The shading points: where the transmittance falls through each of `shade_samples` equal
+    // shares of the composite's weight.
+    var points: array<vec3<f32>, MAX_SHADE_SAMPLES>;
+    let samples = clamp(volume_params.shade_samples, 1u, MAX_SHADE_SAMPLES);
+    var m = 0u;
     var k = 0u;
     loop {
         if k >= volume_params.steps {
@@ -147,15 +152,22 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
             k = max(k + 1u, u32(clamp(last, 0.0, f32(volume_params.steps))));
             continue;
         }
-        let d = volume_density(volume_texture, volume_sampler, res, x);
-        if d > 0.0 && !hit {
+        let v = volume_sample(volume_texture, volume_sampler, res, x);
+        if v.a > 0.0 && !hit {
             hit = true;
             first = x;
         }
-        strands = strands + d * step;
+        strands = strands + v.a * length(v.rgb) * step;
+        let tr = composite_transmittance(strands, volume_params.iso);
+        loop {
+            if m >= samples || !composite_point_reached(tr, m, samples) {
+                break;
+            }
+            points[m] = x;
+            m = m + 1u;
+        }
         if strands >= volume_params.iso {
             solid = true;
-            surface = x;
             break;
         }
         k = k + 1u;
@@ -163,15 +175,21 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     if !hit {
         discard;
     }
-    var alpha = 1.0;
-    var at = surface;
-    if !solid {
-        // Fake transparency (§3.3): the first non-empty sample, opacity from the strands met.
-        alpha = fake_transparency_alpha(strands, volume_params.iso);
-        at = first;
-    }
+    // Fake transparency (§3.3) where the ray never reaches the surface.
+    let alpha = select(fake_transparency_alpha(strands, volume_params.iso), 1.0, solid);
     if alpha <= 1.0 / 1024.0 {
         discard;
     }
-    return vec4<f32>(shade_volume(at, dir) * alpha, alpha);
+    // The composite's weight split equally between the points reached (the first non-empty
+    // sample when the ray holds less than one share).
+    var color = vec3<f32>(0.0);
+    if m == 0u {
+        color = shade_volume(first, dir);
+    } else {
+        for (var j = 0u; j < m; j = j + 1u) {
+            color = color + shade_volume(points[j], dir);
+        }
+        color = color / f32(m);
+    }
+    return vec4<f32>(color * alpha, alpha);
 }

@@ -54,7 +54,14 @@ fn voxelize(
         let seg = strand_segments[s];
         let p0 = strand_vertices[seg.x].position;
         let p1 = strand_vertices[seg.x + 1u].position;
-        let tq = quantize_tangent(segment_tangent(p0, p1));
+        // The strands' tip fade weighs the tangent: the mean tangent's length carries the
+        // opacity the raymarcher gives the voxel's strands.
+        var fade = 1.0;
+        if volume.fade_ref > 0.0 {
+            let th = strand_vertices[seg.x].thickness + strand_vertices[seg.x + 1u].thickness;
+            fade = saturate(0.5 * th / volume.fade_ref);
+        }
+        let tq = quantize_tangent(segment_tangent(p0, p1) * fade);
         let q0 = fixed_point(grid, p0);
         let q1 = fixed_point(grid, p1);
         var deposits = 0u;

@@ -379,6 +379,7 @@ impl Voxelizer {
             march_ao: u32::from(settings.ao),
             strand_width: settings.strand_width,
             occlusion: settings.occlusion.gpu(),
+            shade_samples: settings.shade_samples,
             ..Default::default()
         }
     }
@@ -392,9 +393,23 @@ impl Voxelizer {
         geometry: &StrandGeometry,
         settings: &VolumeSettings,
     ) -> Result<VolumeStats, RenderError> {
+        self.voxelize_faded(ctx, geometry, settings, 0.0)
+    }
+
+    /// [`Voxelizer::voxelize`] with the strands' tip fade: each sample's tangent weighed by its
+    /// segment's thickness over `fade_ref` (0: no fade), as the renderer does under
+    /// `strands.thickness_fade = "tip"`.
+    pub fn voxelize_faded(
+        &mut self,
+        ctx: &GpuContext,
+        geometry: &StrandGeometry,
+        settings: &VolumeSettings,
+        fade_ref: f32,
+    ) -> Result<VolumeStats, RenderError> {
         settings.validate()?;
         self.set_resolution(ctx, settings.resolution)?;
-        let params = Self::params(settings, geometry);
+        let mut params = Self::params(settings, geometry);
+        params.fade_ref = fade_ref;
         ctx.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         ctx.scoped("voxelizing", || {

@@ -57,10 +57,19 @@ fn volume_light_visibility(i: u32, p: vec3<f32>) -> f32 {
     if volume_grid.occupied == 0u {
         return 1.0;
     }
+    let x = voxel_from_world(volume_grid, p);
+    let l = lights.lights[i].to_light;
+    if volume_params.occlusion == OCCLUSION_ADSM {
+        let s = volume_grid.scale;
+        return volume_adsm_visibility(
+            volume_texture, volume_sampler, f32(volume_grid.res), x, l, volume_params.shadow_step,
+            volume_params.shadow_offset, volume_params.occlusion_width * s,
+            volume_params.occlusion_r * log(1.0 - min(volume_params.shadow_alpha, 0.999999)) / s,
+            volume_params.occlusion_bias * s);
+    }
     let n = volume_shadow_strands(
-        volume_texture, volume_sampler, f32(volume_grid.res), voxel_from_world(volume_grid, p),
-        lights.lights[i].to_light, volume_params.shadow_step, volume_params.shadow_offset,
-        volume_occlusion_cap());
+        volume_texture, volume_sampler, f32(volume_grid.res), x, l, volume_params.shadow_step,
+        volume_params.shadow_offset, volume_occlusion_cap());
     return strand_visibility(n * volume_hit_fraction(), volume_params.shadow_alpha);
 }
 
@@ -103,6 +112,12 @@ fn shadow_visibility(i: u32, p: vec3<f32>, params: StrandParams) -> f32 {
     if volume_params.raster_shadow_mode == SHADOW_MODE_VOLUME {
         return volume_light_visibility(i, p);
     }
+    return adsm_map_visibility(i, p, params);
+}
+
+// ADSM (§3.4): the visibility of world point `p` from light `i` through its shadow map, PCF
+// filtered; 1 outside the map.
+fn adsm_map_visibility(i: u32, p: vec3<f32>, params: StrandParams) -> f32 {
     let light = lights.lights[i];
     let t = light_texel(light, p, params.shadow_map_size);
     if t.x < 0.0 || t.y < 0.0 || t.x >= params.shadow_map_size || t.y >= params.shadow_map_size

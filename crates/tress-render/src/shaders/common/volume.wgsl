@@ -87,10 +87,22 @@ struct VolumeParams {
     occlusion: u32,
     // OCCLUSION_ADSM: strands in the way per world unit of path inside the hair (ADSM's r).
     occlusion_r: f32,
+    // Thickness that fades nothing (the strands' tip fade; 0: no fade): the voxelizer weighs each
+    // sample's tangent by `thickness / fade_ref`, so the mean tangent's length is the strands'
+    // mean opacity fade (times their coherence).
+    fade_ref: f32,
+    // OCCLUSION_ADSM: width in world units of a shadow-map line (`shadow_width_px` texels) and
+    // ADSM's depth bias.
+    occlusion_width: f32,
+    occlusion_bias: f32,
+    // Raymarch: points shaded per pixel, 1..=MAX_SHADE_SAMPLES.
+    shade_samples: u32,
     _pad0: u32,
     _pad1: u32,
     _pad2: u32,
 }
+
+const MAX_SHADE_SAMPLES: u32 = 8u;
 
 const VOXELIZE_VERTICES: u32 = 0u;
 const VOXELIZE_SEGMENTS: u32 = 1u;
@@ -274,11 +286,57 @@ fn density_normal(gradient: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
     return select(fallback, -gradient / len, len > 1e-12);
 }
 
-fn fake_transparency_alpha(strands: f32, iso: f32) -> f32 {
+// Transmittance of the hair after `strands` (opacity-weighted) strands along an eye ray:
+// `256^(-strands / iso)`, 1/256 at the isosurface; 0 when `iso <= 0`.
+fn composite_transmittance(strands: f32, iso: f32) -> f32 {
     if iso <= 0.0 {
-        return 1.0;
+        return 0.0;
     }
-    return saturate(strands / iso);
+    return exp2(-8.0 * max(strands, 0.0) / iso);
+}
+
+// Opacity of a ray that met `strands` strands without reaching the isosurface (fake transparency,
+// §3.3): `1 - composite_transmittance`; 1 when `iso <= 0`.
+fn fake_transparency_alpha(strands: f32, iso: f32) -> f32 {
+    return 1.0 - composite_transmittance(strands, iso);
+}
+
+// Whether the transmittance `tr` has fallen to shading point `m` of `k`: the points split the
+// composite's weight `1 - tr` into `k` equal parts, each shaded at its middle.
+fn composite_point_reached(tr: f32, m: u32, k: u32) -> bool {
+    return tr <= 1.0 - (f32(m) + 0.5) / f32(max(k, 1u));
+}
+
+// ADSM's visibility `(1 - alpha)^(r (d - bias))` at voxel position `x` towards `l`, in expectation
+// over where the first strand seen from the light lies (`d`: the distance from it, in voxels as
+// `t`): marching out from the point, each step holds a strand of a shadow-map line `width` voxels
+// wide with probability `1 - exp(-density · step · width)`, and a farther one replaces a nearer.
+// `ln_keep` is `r · ln(1 - alpha)` per voxel, `bias` in voxels.
+fn volume_adsm_visibility(
+    tex: texture_3d<f32>,
+    samp: sampler,
+    res: f32,
+    x: vec3<f32>,
+    l: vec3<f32>,
+    step: f32,
+    offset: f32,
+    width: f32,
+    ln_keep: f32,
+    bias: f32,
+) -> f32 {
+    let span = ray_box(x, l, vec3<f32>(0.0), vec3<f32>(res));
+    var t = max(offset, span.x);
+    var seen = 0.0;
+    var none = 1.0;
+    var i = 0u;
+    while i < MAX_MARCH_STEPS && t < span.y {
+        let p = 1.0 - exp(-volume_density(tex, samp, res, x + l * t) * step * width);
+        seen = seen * (1.0 - p) + p * exp(ln_keep * max(t - bias, 0.0));
+        none = none * (1.0 - p);
+        t = t + step;
+        i = i + 1u;
+    }
+    return seen + none;
 }
 
 fn lod_factor(distance: f32, near: f32, far: f32) -> f32 {
