@@ -40,11 +40,13 @@ mod material;
 mod overrides;
 mod parts;
 mod scene;
+mod technique;
 
 pub use error::SceneError;
 pub use material::{DEFAULT_EUMELANIN, DEFAULT_PHEOMELANIN, Material};
 pub use parts::{Camera, FollowSpec, GeneratorSpec, HairSpec, HeadSpec, Light, Output, Transform};
-pub use scene::{HeadSource, Scene, TECHNIQUES};
+pub use scene::{HeadSource, Scene};
+pub use technique::{TECHNIQUES, TechniqueKind, UnknownTechnique};
 
 #[cfg(test)]
 mod tests;

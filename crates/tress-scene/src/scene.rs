@@ -16,8 +16,7 @@ use crate::error::one_line;
 use crate::overrides;
 use crate::parts::{Camera, HairSpec, HeadSpec, Light, Output, color, validate_lights};
 
-/// Names of the techniques, each with its own settings table (`[strands]`, `[volume]`, ...).
-pub const TECHNIQUES: [&str; 5] = ["strands", "volume", "hybrid", "patches", "satf"];
+use crate::technique::TechniqueKind;
 
 /// A scene: camera, lights, hair assets, head, output image and technique settings.
 ///
@@ -27,7 +26,7 @@ pub const TECHNIQUES: [&str; 5] = ["strands", "volume", "hybrid", "patches", "sa
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Scene {
-    /// The technique to render with: one of [`TECHNIQUES`].
+    /// The technique to render with: one of [`crate::TECHNIQUES`].
     pub technique: String,
     /// Background color (linear RGB).
     pub background: Vec3,
@@ -189,15 +188,8 @@ impl Scene {
     /// [`Scene::from_path`] and [`Scene::apply_override`] call it; call it after changing a scene
     /// in code.
     pub fn validate(&self) -> Result<(), SceneError> {
-        if !TECHNIQUES.contains(&self.technique.as_str()) {
-            return Err(SceneError::invalid(
-                "technique",
-                format!(
-                    "unknown technique `{}` (expected one of: {})",
-                    self.technique,
-                    TECHNIQUES.join(", ")
-                ),
-            ));
+        if let Err(e) = self.technique.parse::<TechniqueKind>() {
+            return Err(SceneError::invalid("technique", e.to_string()));
         }
         color("background", self.background)?;
         self.camera.validate()?;
@@ -209,16 +201,20 @@ impl Scene {
         self.output.validate()
     }
 
-    /// The settings table of a technique (one of [`TECHNIQUES`]), `None` for an unknown name.
+    /// The settings table of a technique (one of [`crate::TECHNIQUES`]), `None` for an unknown name.
     pub fn technique_table(&self, name: &str) -> Option<&toml::Table> {
-        match name {
-            "strands" => Some(&self.strands),
-            "volume" => Some(&self.volume),
-            "hybrid" => Some(&self.hybrid),
-            "patches" => Some(&self.patches),
-            "satf" => Some(&self.satf),
-            _ => None,
-        }
+        Some(match name.parse::<TechniqueKind>().ok()? {
+            TechniqueKind::Strands => &self.strands,
+            TechniqueKind::Volume => &self.volume,
+            TechniqueKind::Hybrid => &self.hybrid,
+            TechniqueKind::Patches => &self.patches,
+            TechniqueKind::Satf => &self.satf,
+        })
+    }
+
+    /// The scene's technique ([`Scene::validate`] checks that `technique` names one).
+    pub fn technique_kind(&self) -> Result<TechniqueKind, crate::UnknownTechnique> {
+        self.technique.parse()
     }
 
     /// Deserialize a technique's table into the technique's settings struct.
@@ -227,14 +223,9 @@ impl Scene {
     /// the key and, when the key came from the scene file, its line (and the file), exactly like
     /// errors in the rest of the scene. Keys set by overrides are named without a line.
     pub fn technique_settings<T: DeserializeOwned>(&self, name: &str) -> Result<T, SceneError> {
-        let Some(table) = self.technique_table(name) else {
-            return Err(SceneError::invalid(
-                "technique",
-                format!(
-                    "unknown technique `{name}` (expected one of: {})",
-                    TECHNIQUES.join(", ")
-                ),
-            ));
+        let table = match name.parse::<TechniqueKind>() {
+            Ok(_) => self.technique_table(name).expect("a technique's table"),
+            Err(e) => return Err(SceneError::invalid("technique", e.to_string())),
         };
         match toml::Value::Table(table.clone()).try_into::<T>() {
             Ok(settings) => Ok(settings),

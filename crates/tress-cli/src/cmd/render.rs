@@ -17,9 +17,6 @@ use tress_scene::Scene;
 
 use crate::progress;
 
-/// Techniques `render` can run today.
-const IMPLEMENTED: &[&str] = &["strands", "volume", "hybrid", "patches", "satf"];
-
 /// Arguments of `tress render`.
 #[derive(clap::Args, Debug)]
 pub(crate) struct Args {
@@ -282,13 +279,6 @@ pub(crate) fn run(args: Args) -> Result<()> {
         args.height,
         &sets,
     )?;
-    if !IMPLEMENTED.contains(&scene.technique.as_str()) {
-        bail!(
-            "technique `{}` is not available yet (available: {})",
-            scene.technique,
-            IMPLEMENTED.join(", ")
-        );
-    }
     let pb = progress::spinner("loading hair");
     let prepared = PreparedScene::load(&scene);
     pb.finish_and_clear();

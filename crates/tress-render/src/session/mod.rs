@@ -44,8 +44,9 @@ use crate::{
     StrandGeometry, TargetFormats, Targets, Technique, Timings,
 };
 
-/// The techniques a session draws, in the order the viewer cycles them.
-pub const TECHNIQUES: [&str; 5] = ["strands", "volume", "hybrid", "patches", "satf"];
+/// The techniques a session draws, in the order the viewer cycles them (the names of
+/// [`tress_scene::TechniqueKind::ALL`]).
+pub use tress_scene::{TECHNIQUES, TechniqueKind};
 
 /// Constant ambient light of every technique's shading (linear RGB per channel), as in
 /// `tress render`.
@@ -134,7 +135,7 @@ pub struct Session {
     scene: Scene,
     prepared: PreparedScene,
     head: Option<HeadGeometry>,
-    technique: &'static str,
+    technique: TechniqueKind,
     strands: Option<StrandPath>,
     patches: Option<PatchPath>,
     satf: Option<SatfPath>,
@@ -160,16 +161,17 @@ fn invalid(e: impl std::fmt::Display) -> RenderError {
 
 /// The name in [`TECHNIQUES`] of a technique, or an error listing them.
 pub fn technique_name(name: &str) -> Result<&'static str, RenderError> {
-    TECHNIQUES
-        .iter()
-        .find(|t| **t == name)
-        .copied()
-        .ok_or_else(|| {
-            invalid(format!(
-                "unknown technique `{name}` (available: {})",
-                TECHNIQUES.join(", ")
-            ))
-        })
+    technique_kind(name).map(TechniqueKind::name)
+}
+
+/// The technique of a name, or an error listing them.
+pub fn technique_kind(name: &str) -> Result<TechniqueKind, RenderError> {
+    name.parse().map_err(|_| {
+        invalid(format!(
+            "unknown technique `{name}` (available: {})",
+            TECHNIQUES.join(", ")
+        ))
+    })
 }
 
 /// Load a scene's hair, head and settings, framing the camera on the hair when asked.
@@ -204,7 +206,7 @@ impl Session {
             .as_ref()
             .map(|m| HeadGeometry::new(ctx, m))
             .transpose()?;
-        let technique = technique_name(&scene.technique)?;
+        let technique = technique_kind(&scene.technique)?;
         let mut session = Session {
             formats,
             scene,
@@ -245,6 +247,11 @@ impl Session {
 
     /// The current technique (one of [`TECHNIQUES`]).
     pub fn technique(&self) -> &'static str {
+        self.technique.name()
+    }
+
+    /// The current technique.
+    pub fn technique_kind(&self) -> TechniqueKind {
         self.technique
     }
 
@@ -261,14 +268,14 @@ impl Session {
     /// Switch technique, uploading what it needs on first use. On error the technique is
     /// unchanged.
     pub fn set_technique(&mut self, ctx: &GpuContext, name: &str) -> Result<(), RenderError> {
-        let name = technique_name(name)?;
+        let kind = technique_kind(name)?;
         let old = self.technique;
-        self.technique = name;
+        self.technique = kind;
         if let Err(e) = self.prepare(ctx) {
             self.technique = old;
             return Err(e);
         }
-        self.scene.technique = name.to_string();
+        self.scene.technique = kind.name().to_string();
         Ok(())
     }
 
@@ -364,7 +371,7 @@ impl Session {
     /// Upload what the current technique needs, if not yet there.
     fn prepare(&mut self, ctx: &GpuContext) -> Result<(), RenderError> {
         match self.technique {
-            "patches" if self.patches.is_none() => {
+            TechniqueKind::Patches if self.patches.is_none() => {
                 let scene = load_patches(&self.scene, &self.prepared)?;
                 let settings = patch_settings(&self.scene)?;
                 let mut renderer = if scene.textures_from_files {
@@ -385,7 +392,7 @@ impl Session {
                     scene,
                 });
             }
-            "satf" if self.satf.is_none() => {
+            TechniqueKind::Satf if self.satf.is_none() => {
                 let settings = satf_settings(&self.scene)?;
                 let loader = self.loader.as_mut().ok_or_else(|| {
                     invalid("the satf technique needs an HRIR database (none was given)")
@@ -402,7 +409,7 @@ impl Session {
                     settings,
                 });
             }
-            "strands" | "volume" | "hybrid" => {
+            TechniqueKind::Strands | TechniqueKind::Volume | TechniqueKind::Hybrid => {
                 if self.strands.is_none() {
                     let mut renderer =
                         Renderer::new(ctx, self.formats, self.prepared.strands.clone())?;
@@ -418,7 +425,7 @@ impl Session {
                 }
                 if let Some(s) = &mut self.strands {
                     s.renderer
-                        .set_technique(self.technique.parse::<Technique>()?);
+                        .set_technique(self.technique.name().parse::<Technique>()?);
                 }
             }
             _ => {}
@@ -485,7 +492,7 @@ impl Session {
         let visible = self.hair_visible;
         let start = Instant::now();
         let (timings, memory, detail) = match self.technique {
-            "patches" => {
+            TechniqueKind::Patches => {
                 let p = self.patches.as_mut().ok_or_else(|| invalid("no patches"))?;
                 let stats = p.renderer.render(
                     ctx,
@@ -507,7 +514,7 @@ impl Session {
                 };
                 (stats.timings.clone(), memory, FrameDetail::Patches(stats))
             }
-            "satf" => {
+            TechniqueKind::Satf => {
                 let s = self.satf.as_mut().ok_or_else(|| invalid("no SATF"))?;
                 let stats = s.renderer.render(
                     ctx,
@@ -553,7 +560,7 @@ impl Session {
                 )?;
                 // What this frame's technique uses: the raymarcher alone needs no OIT and no
                 // shadow maps (the renderer keeps those of techniques drawn before).
-                let raster = self.technique != "volume";
+                let raster = self.technique != TechniqueKind::Volume;
                 let memory = Memory {
                     geometry: s.hair.as_ref().map_or(0, StrandGeometry::bytes) + head_bytes,
                     oit: stats.oit.map_or(0, |(_, bytes)| bytes),
@@ -566,7 +573,7 @@ impl Session {
             }
         };
         Ok(SessionFrame {
-            technique: self.technique,
+            technique: self.technique.name(),
             size: [camera.viewport[0], camera.viewport[1]],
             timings,
             wall_ms: start.elapsed().as_secs_f64() * 1e3,

@@ -116,7 +116,7 @@ pub(crate) fn sweep(name: &str, quick: bool, scene: &Scene) -> Result<Sweep> {
                 title: "Frame time by camera distance (Figures 7 and 8)",
                 x_label: "camera distance (multiple of the scene's)",
                 log_x: true,
-                series: techniques(&["strands", "volume", "hybrid", "patches", "satf"]),
+                series: techniques(&tress_scene::TECHNIQUES),
                 points: (0..n)
                     .map(|i| {
                         let f = far.powf(f64::from(i) / f64::from(n - 1));
