@@ -141,17 +141,25 @@ pub fn volume_shadow_strands(
     offset: f32,
     cap: f32,
 ) -> f32 {
+    shadow_march(vol, x, l, step, offset)
+        .fold(0.0, |n, t| n + vol.sample(x + l * t).min(cap) * step)
+}
+
+/// The distances a shadow ray from voxel position `x` towards `l` samples: `max(offset,
+/// t_enter)`, then `+ step` at a time (accumulated, as the WGSL does) while inside the grid, at
+/// most [`MAX_MARCH_STEPS`] of them.
+fn shadow_march(
+    vol: &DensityVolume<'_>,
+    x: Vec3,
+    l: Vec3,
+    step: f32,
+    offset: f32,
+) -> impl Iterator<Item = f32> {
     let res = vol.res() as f32;
     let (t0, t1) = ray_box(x, l, Vec3::ZERO, Vec3::splat(res));
-    let mut t = offset.max(t0);
-    let mut n = 0.0;
-    let mut i = 0;
-    while i < MAX_MARCH_STEPS && t < t1 {
-        n += vol.sample(x + l * t).min(cap) * step;
-        t += step;
-        i += 1;
-    }
-    n
+    std::iter::successors(Some(offset.max(t0)), move |t| Some(t + step))
+        .take_while(move |t| *t < t1)
+        .take(MAX_MARCH_STEPS as usize)
 }
 
 /// Offset of ambient-occlusion sample `i` of `n` inside the unit ball: Fibonacci-spiral
@@ -249,17 +257,11 @@ pub fn volume_adsm_visibility(
     ln_keep: f32,
     bias: f32,
 ) -> f32 {
-    let res = vol.res() as f32;
-    let (t0, t1) = ray_box(x, l, Vec3::ZERO, Vec3::splat(res));
-    let mut t = offset.max(t0);
     let (mut seen, mut none) = (0.0, 1.0);
-    let mut i = 0;
-    while i < MAX_MARCH_STEPS && t < t1 {
+    for t in shadow_march(vol, x, l, step, offset) {
         let p = 1.0 - (-vol.sample(x + l * t) * step * width).exp();
         seen = seen * (1.0 - p) + p * (ln_keep * (t - bias).max(0.0)).exp();
         none *= 1.0 - p;
-        t += step;
-        i += 1;
     }
     seen + none
 }
