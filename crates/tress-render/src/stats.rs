@@ -229,6 +229,7 @@ impl ReadbackRing {
                         VolumeStats {
                             deposits: v.deposits,
                             dropped: v.dropped,
+                            saturated: v.saturated,
                         }
                     });
                     let report = GpuReport {

@@ -194,8 +194,16 @@ fn volume_types_match_wgsl() {
             "VolumeGrid",
             VolumeGrid,
             [
-                origin, scale, bounds_min, voxel_size, bounds_max, res, box_min, occupied, box_max,
-                _pad0
+                origin,
+                scale,
+                bounds_min,
+                voxel_size,
+                bounds_max,
+                res,
+                box_min,
+                occupied,
+                box_max,
+                density_unit
             ]
         );
         check!(
@@ -239,14 +247,16 @@ fn volume_types_match_wgsl() {
             ]
         );
     }
-    let text = shaders::compose("volume/voxelize.wgsl").expect("composes");
-    let m = naga::front::wgsl::parse_str(&text).expect("parses");
-    check!(
-        &m,
-        "VoxelStats",
-        VoxelStats,
-        [deposits, dropped, _pad0, _pad1]
-    );
+    for module in ["volume/voxelize.wgsl", "volume/volume_resolve.wgsl"] {
+        let text = shaders::compose(module).expect("composes");
+        let m = naga::front::wgsl::parse_str(&text).expect("parses");
+        check!(
+            &m,
+            "VoxelStats",
+            VoxelStats,
+            [deposits, dropped, saturated, _pad0]
+        );
+    }
     let text = shaders::compose("volume/volume_bounds.wgsl").expect("composes");
     let m = naga::front::wgsl::parse_str(&text).expect("parses");
     check!(&m, "BoundsKeys", BoundsKeys, [lo, hi]);

@@ -33,31 +33,33 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let c = cases[i];
     let o = i * OUTPUTS;
     let res = f32(textureDimensions(volume).x);
+    // The test volume's texels count quarter strands.
+    let vt = VolumeTexels(res, 0.25);
     let x = c.x.xyz;
     let l = c.l.xyz;
     let n = u32(c.p.w);
     results[o + 0u] = vec4f(
-        volume_shadow_strands(volume, volume_sampler, res, x, l, c.x.w, c.l.w, NO_CAP),
-        volume_ao(volume, volume_sampler, res, x, c.ao.x, u32(c.ao.y), c.ao.z, c.ao.w, NO_CAP),
-        volume_density(volume, volume_sampler, res, x),
+        volume_shadow_strands(volume, volume_sampler, vt, x, l, c.x.w, c.l.w, NO_CAP),
+        volume_ao(volume, volume_sampler, vt, x, c.ao.x, u32(c.ao.y), c.ao.z, c.ao.w, NO_CAP),
+        volume_density(volume, volume_sampler, vt, x),
         fake_transparency_alpha(c.s.x, c.s.y));
-    results[o + 1u] = vec4f(density_gradient(volume, volume_sampler, res, x), lod_factor(c.s.z, c.s.w, c.p.x));
+    results[o + 1u] = vec4f(density_gradient(volume, volume_sampler, vt, x), lod_factor(c.s.z, c.s.w, c.p.x));
     results[o + 2u] = vec4f(
-        density_normal(density_gradient(volume, volume_sampler, res, x), vec3f(0.0, 0.0, 1.0)),
+        density_normal(density_gradient(volume, volume_sampler, vt, x), vec3f(0.0, 0.0, 1.0)),
         dither_threshold(vec2u(u32(c.p.y), u32(c.p.z))));
     results[o + 3u] = vec4f(ao_offset(n % 64u, 64u), f32(isqrt(n * 977u)));
     results[o + 4u] = vec4f(vec3f(quantize_tangent(l)), f32(voxel_hash(n) & 0xffffu));
     results[o + 5u] = vec4f(ray_box(x, l, vec3f(2.0), vec3f(res - 3.0)), dequantize_tangent(vec3f(200.0, 30.0, 510.0), 2.0).xy);
     // Capped at one strand per voxel (the ADSM-style occlusion).
     results[o + 6u] = vec4f(
-        volume_shadow_strands(volume, volume_sampler, res, x, l, c.x.w, c.l.w, 1.0),
-        volume_ao(volume, volume_sampler, res, x, c.ao.x, u32(c.ao.y), c.ao.z, c.ao.w, 1.0),
+        volume_shadow_strands(volume, volume_sampler, vt, x, l, c.x.w, c.l.w, 1.0),
+        volume_ao(volume, volume_sampler, vt, x, c.ao.x, u32(c.ao.y), c.ao.z, c.ao.w, 1.0),
         composite_transmittance(c.s.x, c.s.y),
         f32(composite_point_reached(c.ao.w, n % 8u, 1u + n % 7u)));
     // ADSM's expected visibility: line width from the AO radius, ln_keep and bias from the
     // intensity and alpha inputs.
     results[o + 7u] = vec4f(
         volume_adsm_visibility(
-            volume, volume_sampler, res, x, l, c.x.w, c.l.w, 0.25 * c.ao.x, -c.ao.z, 2.0 * c.ao.w),
-        0.0, 0.0, 0.0);
+            volume, volume_sampler, vt, x, l, c.x.w, c.l.w, 0.25 * c.ao.x, -c.ao.z, 2.0 * c.ao.w),
+        decode_texel(encode_texel(l * c.ao.w, 1u + n % 300u), 0.5).xyz);
 }

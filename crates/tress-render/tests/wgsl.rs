@@ -175,4 +175,17 @@ fn the_volume_constants_mirror_the_settings() {
         scalar_const(&module, "OCCUPANCY_BLOCK"),
         f64::from(tress_render::volume::OCCUPANCY_BLOCK)
     );
+    use tress_shading::voxelize::{TEXEL_MAX_COUNT, TEXEL_TANGENT_SCALE, TEXEL_TANGENT_ZERO};
+    assert_eq!(
+        scalar_const(&module, "TEXEL_TANGENT_ZERO"),
+        f64::from(TEXEL_TANGENT_ZERO)
+    );
+    assert_eq!(
+        scalar_const(&module, "TEXEL_TANGENT_SCALE"),
+        f64::from(TEXEL_TANGENT_SCALE)
+    );
+    assert_eq!(
+        scalar_const(&module, "TEXEL_MAX_COUNT"),
+        f64::from(TEXEL_MAX_COUNT)
+    );
 }

@@ -47,7 +47,7 @@
 //!
 //! Volume twins (Jansson et al. 2019 §3.3–3.4 and the LOD blend), WGSL side in
 //! `shaders/common/volume.wgsl`; the WGSL functions that read the volume take the 3D texture, its
-//! sampler and the resolution where the CPU takes a [`DensityVolume`] (`tests/volume_twins.rs`
+//! sampler and how its texels read (`VolumeTexels`: resolution, density unit) where the CPU takes a [`DensityVolume`] (`tests/volume_twins.rs`
 //! checks the names and arguments):
 //!
 //! | CPU (this crate) | WGSL (`volume.wgsl`) |
@@ -55,11 +55,12 @@
 //! | [`voxel_hash`]`(x: u32) -> u32`, [`voxelize::isqrt`]`(x: u32) -> u32` | `voxel_hash(x: u32) -> u32`, `isqrt(x: u32) -> u32` |
 //! | [`quantize_tangent`]`(t: Vec3) -> UVec3`, [`dequantize_tangent`]`(sum: Vec3, count: f32) -> Vec3` | `quantize_tangent(t: vec3f) -> vec3u`, `dequantize_tangent(sum: vec3f, count: f32) -> vec3f` |
 //! | [`voxelize::segment_sample_count`]`(q0, q1: UVec3, segment: u32) -> u32`, [`voxelize::segment_sample`]`(a, d: IVec3, k, n: u32) -> UVec3` | `segment_sample_count(q0, q1: vec3u, segment: u32) -> u32`, `segment_sample(a, d: vec3i, k, n: u32) -> vec3u` |
+//! | [`voxelize::encode_texel`]`(tangent: Vec3, count: u32) -> [u8; 4]`, [`voxelize::decode_texel`]`(bytes: [u8; 4], density_unit: f32) -> (Vec3, f32)` | `encode_texel(tangent: vec3f, count: u32) -> vec4f` (normalized), `decode_texel(raw: vec4f, density_unit: f32) -> vec4f` |
 //! | [`ray_box`]`(o, d, lo, hi: Vec3) -> (f32, f32)` | `ray_box(o, d, lo, hi: vec3f) -> vec2f` |
-//! | [`volume_shadow_strands`]`(vol, x: Vec3, l: Vec3, step: f32, offset: f32) -> f32` | `volume_shadow_strands(tex, samp, res: f32, x, l: vec3f, step, offset: f32) -> f32` |
-//! | [`ao_offset`]`(i: u32, n: u32) -> Vec3`, [`volume_ao`]`(vol, x: Vec3, radius: f32, samples: u32, intensity: f32, alpha: f32) -> f32` | `ao_offset(i, n: u32) -> vec3f`, `volume_ao(tex, samp, res: f32, x: vec3f, radius: f32, samples: u32, intensity, alpha: f32) -> f32` |
-//! | [`density_gradient`]`(vol, x: Vec3) -> Vec3`, [`density_normal`]`(gradient: Vec3, fallback: Vec3) -> Vec3` | `density_gradient(tex, samp, res: f32, x: vec3f) -> vec3f`, `density_normal(gradient, fallback: vec3f) -> vec3f` |
-//! | [`volume_adsm_visibility`]`(vol, x, l: Vec3, step, offset, width, ln_keep, bias: f32) -> f32` | `volume_adsm_visibility(tex, samp, res: f32, x, l: vec3f, step, offset, width, ln_keep, bias: f32) -> f32` |
+//! | [`volume_shadow_strands`]`(vol, x: Vec3, l: Vec3, step: f32, offset: f32) -> f32` | `volume_shadow_strands(tex, samp, vt: VolumeTexels, x, l: vec3f, step, offset: f32) -> f32` |
+//! | [`ao_offset`]`(i: u32, n: u32) -> Vec3`, [`volume_ao`]`(vol, x: Vec3, radius: f32, samples: u32, intensity: f32, alpha: f32) -> f32` | `ao_offset(i, n: u32) -> vec3f`, `volume_ao(tex, samp, vt: VolumeTexels, x: vec3f, radius: f32, samples: u32, intensity, alpha: f32) -> f32` |
+//! | [`density_gradient`]`(vol, x: Vec3) -> Vec3`, [`density_normal`]`(gradient: Vec3, fallback: Vec3) -> Vec3` | `density_gradient(tex, samp, vt: VolumeTexels, x: vec3f) -> vec3f`, `density_normal(gradient, fallback: vec3f) -> vec3f` |
+//! | [`volume_adsm_visibility`]`(vol, x, l: Vec3, step, offset, width, ln_keep, bias: f32) -> f32` | `volume_adsm_visibility(tex, samp, vt: VolumeTexels, x, l: vec3f, step, offset, width, ln_keep, bias: f32) -> f32` |
 //! | [`composite_transmittance`]`(strands, iso: f32) -> f32`, [`fake_transparency_alpha`]`(strands: f32, iso: f32) -> f32`, [`composite_point_reached`]`(tr: f32, m, k: u32) -> bool` | `composite_transmittance(strands, iso: f32) -> f32`, `fake_transparency_alpha(strands: f32, iso: f32) -> f32`, `composite_point_reached(tr: f32, m, k: u32) -> bool` |
 //! | [`lod_factor`]`(distance, near, far: f32) -> f32`, [`dither_threshold`]`(px: UVec2) -> f32` | `lod_factor(distance, near, far: f32) -> f32`, `dither_threshold(px: vec2u) -> f32` |
 //!

@@ -173,6 +173,44 @@ pub fn dequantize_tangent(sum: Vec3, count: f32) -> Vec3 {
     sum / count / TANGENT_LEVELS * 2.0 - Vec3::ONE
 }
 
+/// The texel byte that holds a zero tangent component (`encode_texel`).
+pub const TEXEL_TANGENT_ZERO: f32 = 128.0;
+/// Texel levels per unit of tangent (`encode_texel`).
+pub const TEXEL_TANGENT_SCALE: f32 = 127.0;
+/// The most counts a texel holds.
+pub const TEXEL_MAX_COUNT: u32 = 255;
+
+/// The volume texture's texel of a voxel (`rgba8unorm`, 4 bytes; WGSL twin `encode_texel`): rgb
+/// the mean tangent `t` as `u = t / |t|^(2/3)` (so `|u| = |t|^(1/3)`), each channel
+/// `128 + floor(127 u + 1/2)` (zero exact), a the count clamped to 255. A short mean tangent
+/// (spread directions, the faded tips of fur) keeps its direction to about a degree, where a
+/// linear 8-bit store turned it by about ten and streaked the fur's highlights. The raymarcher
+/// decodes the eight texels around a point ([`decode_texel`]) and filters the values.
+pub fn encode_texel(tangent: Vec3, count: u32) -> [u8; 4] {
+    let len = tangent.length();
+    let u = if len > 0.0 {
+        tangent * len.max(1e-30).powf(-2.0 / 3.0)
+    } else {
+        Vec3::ZERO
+    };
+    let t = |c: f32| {
+        (TEXEL_TANGENT_ZERO + (c.clamp(-1.0, 1.0) * TEXEL_TANGENT_SCALE + 0.5).floor()) as u8
+    };
+    [t(u.x), t(u.y), t(u.z), count.min(TEXEL_MAX_COUNT) as u8]
+}
+
+/// A texel as the mean tangent and the density, the count times `density_unit` (WGSL twin
+/// `decode_texel`, which gets the texel normalized). A texel without strands has no tangent,
+/// whatever its rgb: the resolve writes zero bytes outside the hair's box, as does a new texture.
+pub fn decode_texel(bytes: [u8; 4], density_unit: f32) -> (Vec3, f32) {
+    if bytes[3] == 0 {
+        return (Vec3::ZERO, 0.0);
+    }
+    let u = |b: u8| (f32::from(b) - TEXEL_TANGENT_ZERO) / TEXEL_TANGENT_SCALE;
+    let u = Vec3::new(u(bytes[0]), u(bytes[1]), u(bytes[2]));
+    (u * u.length_squared(), f32::from(bytes[3]) * density_unit)
+}
+
 /// Unit direction of a segment, `(0, 1, 0)` for a degenerate one (as `strand.wgsl`).
 pub fn segment_tangent(p0: Vec3, p1: Vec3) -> Vec3 {
     let d = p1 - p0;
@@ -318,6 +356,15 @@ pub struct VoxelValue {
     pub tangent: Vec3,
     /// Strand density (strand length in the voxel, in voxel edges).
     pub density: f32,
+    /// The clamped counts summed over the filter's box (the voxel's count without a filter).
+    pub count: u32,
+}
+
+impl VoxelValue {
+    /// The texel the resolve writes ([`encode_texel`]).
+    pub fn texel(&self) -> [u8; 4] {
+        encode_texel(self.tangent, self.count)
+    }
 }
 
 /// The resolve of one voxel (WGSL `volume_resolve.wgsl`): with `radius = 0` the clamped count
@@ -346,6 +393,7 @@ pub fn resolve(counts: &VoxelCounts, v: UVec3, radius: u32, weight: f32, cap: u3
     VoxelValue {
         tangent: dequantize_tangent(sum.as_vec3(), c as f32),
         density: c as f32 / (side * side * side) * weight,
+        count: c,
     }
 }
 
@@ -355,6 +403,45 @@ mod tests {
 
     fn grid() -> VoxelGrid {
         VoxelGrid::fit(Vec3::ZERO, Vec3::new(12.0, 6.0, 3.0), 16)
+    }
+
+    #[test]
+    fn texels_keep_short_tangents_direction_and_the_count() {
+        // Directions spread over the sphere, lengths from a faded tip's to a coherent voxel's.
+        let mut worst_angle = [0.0f32; 3];
+        for (k, len) in [0.05f32, 0.2, 1.0].into_iter().enumerate() {
+            for i in 0..500 {
+                let z = 1.0 - 2.0 * (i as f32 + 0.5) / 500.0;
+                let phi = 2.399_963_3 * i as f32;
+                let r = (1.0 - z * z).sqrt();
+                let t = Vec3::new(r * phi.cos(), r * phi.sin(), z) * len;
+                let (back, density) = decode_texel(encode_texel(t, 7), 0.5);
+                assert_eq!(density, 3.5);
+                let angle = back
+                    .normalize()
+                    .dot(t.normalize())
+                    .min(1.0)
+                    .acos()
+                    .to_degrees();
+                worst_angle[k] = worst_angle[k].max(angle);
+                assert!(
+                    (back.length() / len - 1.0).abs() < 0.06,
+                    "{t}: {back} ({len})"
+                );
+            }
+        }
+        // About a degree at a twentieth of a unit tangent, where a linear 8-bit store of the
+        // same tangent turns it by up to 7.8 degrees (half a level of 2/255 a channel).
+        assert!(worst_angle[0] < 1.3, "{worst_angle:?}");
+        assert!(worst_angle[2] < 0.4, "{worst_angle:?}");
+        // Zero is exact; the count clamps at 255; a texel without strands has no tangent.
+        assert_eq!(encode_texel(Vec3::ZERO, 0), [128, 128, 128, 0]);
+        assert_eq!(encode_texel(Vec3::X, 300)[3], 255);
+        assert_eq!(decode_texel([0, 0, 0, 0], 1.0), (Vec3::ZERO, 0.0));
+        assert_eq!(
+            decode_texel(encode_texel(Vec3::ZERO, 3), 1.0),
+            (Vec3::ZERO, 3.0)
+        );
     }
 
     #[test]

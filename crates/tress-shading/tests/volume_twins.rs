@@ -2,7 +2,7 @@
 //! validates with naga, and every function with a CPU twin in `tress_shading::volume` /
 //! `tress_shading::voxelize` has the same argument names in the same order (the WGSL functions
 //! that take the volume texture and its sampler take them in place of the CPU `&DensityVolume`
-//! and a `res`, first). GPU-vs-CPU values are compared in `tress-render/tests/volume_shading_gpu.rs`.
+//! and the texels' `vt` (resolution and density unit), first). GPU-vs-CPU values are compared in `tress-render/tests/volume_shading_gpu.rs`.
 
 use naga::valid::{Capabilities, ValidationFlags, Validator};
 
@@ -23,19 +23,21 @@ fn module() -> naga::Module {
     module
 }
 
-/// `(WGSL name, WGSL arguments)`; a leading `tex, samp, res` stands for the CPU `vol`.
+/// `(WGSL name, WGSL arguments)`; a leading `tex, samp, vt` stands for the CPU `vol`.
 const FUNCTIONS: &[(&str, &[&str])] = &[
     ("voxel_hash", &["x"]),
     ("isqrt", &["x"]),
     ("quantize_tangent", &["t"]),
     ("dequantize_tangent", &["sum", "count"]),
     ("segment_tangent", &["p0", "p1"]),
+    ("encode_texel", &["tangent", "count"]),
+    ("decode_texel", &["raw", "density_unit"]),
     ("segment_sample_count", &["q0", "q1", "segment"]),
     ("segment_sample", &["a", "d", "k", "n"]),
     ("ray_box", &["o", "d", "lo", "hi"]),
     (
         "volume_shadow_strands",
-        &["tex", "samp", "res", "x", "l", "step", "offset", "cap"],
+        &["tex", "samp", "vt", "x", "l", "step", "offset", "cap"],
     ),
     ("ao_offset", &["i", "n"]),
     (
@@ -43,7 +45,7 @@ const FUNCTIONS: &[(&str, &[&str])] = &[
         &[
             "tex",
             "samp",
-            "res",
+            "vt",
             "x",
             "radius",
             "samples",
@@ -52,7 +54,7 @@ const FUNCTIONS: &[(&str, &[&str])] = &[
             "cap",
         ],
     ),
-    ("density_gradient", &["tex", "samp", "res", "x"]),
+    ("density_gradient", &["tex", "samp", "vt", "x"]),
     ("density_normal", &["gradient", "fallback"]),
     ("fake_transparency_alpha", &["strands", "iso"]),
     ("lod_factor", &["distance", "near", "far"]),
@@ -86,7 +88,7 @@ fn volume_wgsl_declares_the_twins_with_the_cpu_argument_names() {
 
 #[test]
 fn cpu_twins_exist_with_the_same_arity() {
-    // Calling each twin with the WGSL argument count (a `vol` for `tex, samp, res`) is the check:
+    // Calling each twin with the WGSL argument count (a `vol` for `tex, samp, vt`) is the check:
     // this test does not compile if a CPU signature drifts.
     use glam::{IVec3, UVec2, UVec3, Vec3};
     use tress_shading::voxelize::{isqrt, segment_sample, segment_sample_count, segment_tangent};
@@ -96,6 +98,8 @@ fn cpu_twins_exist_with_the_same_arity() {
     let _ = (voxel_hash(1), isqrt(4), quantize_tangent(Vec3::X));
     let _ = dequantize_tangent(Vec3::ONE, 1.0);
     let _ = segment_tangent(Vec3::ZERO, Vec3::X);
+    let _ = tress_shading::voxelize::decode_texel([0; 4], 1.0);
+    let _ = tress_shading::voxelize::encode_texel(Vec3::X, 1);
     let _ = segment_sample_count(UVec3::ZERO, UVec3::ONE, 0);
     let _ = segment_sample(IVec3::ZERO, IVec3::ONE, 0, 1);
     let _ = ray_box(Vec3::ZERO, Vec3::X, Vec3::ZERO, Vec3::ONE);

@@ -327,8 +327,9 @@ pub struct VolumeGrid {
     pub occupied: u32,
     /// One past the last voxel the resolve writes from the counters.
     pub box_max: [u32; 3],
-    /// Padding.
-    pub _pad0: u32,
+    /// Strands per level of the texels' 8-bit density: 1 in the segments mode, the
+    /// reconstruction filter's weight over its box in the vertices mode.
+    pub density_unit: f32,
 }
 
 /// `struct ResolveArgs` in `shaders/common/volume.wgsl`: the resolve's indirect dispatch.
@@ -430,10 +431,10 @@ pub struct VoxelStats {
     pub deposits: u32,
     /// Samples dropped at a full counter.
     pub dropped: u32,
+    /// Voxels whose filter box summed more than a texel's 255 counts (vertices mode).
+    pub saturated: u32,
     /// Padding.
     pub _pad0: u32,
-    /// Padding.
-    pub _pad1: u32,
 }
 
 /// `struct BoundsKeys` in `volume/volume_bounds.wgsl`: the hair's box as order-preserving integer

@@ -30,8 +30,9 @@
 //!   default 255: the paper's 8-bit counter): a sample finding the counter full is dropped and
 //!   counted (design rule 8), see [`VolumeStats`].
 //! - **Resolve.** One invocation per voxel divides the tangent sums by the count, de-quantizes
-//!   (§3.3, Figure 4) and writes `rgba16float` texels — rgb the mean tangent, a the density — into
-//!   a 3D texture sampled trilinearly by everything downstream. It also marks an occupancy volume
+//!   (§3.3, Figure 4) and writes `rgba8unorm` texels — rgb the mean tangent, a the count — into
+//!   a 3D texture that everything downstream filters trilinearly (`volume_sample`: the eight
+//!   texels decoded, then blended). It also marks an occupancy volume
 //!   of `8³`-voxel blocks (each non-empty voxel marks the blocks within one voxel of it, the
 //!   trilinear footprint). It runs only over the voxels the hair's box touches (grown by the
 //!   filter radius) and last frame's box, which it zeroes: the bounds pass writes that region as
@@ -91,9 +92,15 @@
 //!   `r` per unit of the ball inside the hair). The raymarcher uses it with `ao = true`, the
 //!   rasterizer with `strands.ao = true`; both are off by default and agree only when both are on.
 //!
-//! Memory: `3 · 4` bytes of counters and `8` bytes of texture per voxel (320 MiB at the default
-//! `256³`); each counter buffer must fit the device's storage-binding limit (128 MiB on lavapipe:
-//! at most `322³`).
+//! Memory: `3 · 4` bytes of counters (the voxelization's scratch) and `4` bytes of texture per
+//! voxel (the resident volume the frame samples: 64 MiB at the default `256³`, the paper's
+//! reference keeps 5; 256 MiB in all); each counter buffer must fit the device's storage-binding
+//! limit (128 MiB on lavapipe: at most `322³`). The texture is `rgba8unorm`
+//! (`tress_shading::voxelize::encode_texel`): the mean tangent in 127 levels a unit, exact zero,
+//! and the count as it is (the segments mode's counters hold at most 255, the paper's 8-bit
+//! counter), so the density the raymarcher reads is the count the resolve wrote. In the vertices
+//! mode the texel holds the filter box's summed count, at most 255 (a mean of 9.4 per voxel of a
+//! `3³` box): a box summing more is clamped and counted ([`VolumeStats::saturated`]).
 
 mod occlusion;
 pub(crate) mod raymarch;
@@ -309,11 +316,22 @@ impl VolumeSettings {
         Ok(())
     }
 
-    /// Bytes of counters and texture a grid of this resolution takes.
+    /// Bytes of counters, texture and occupancy a grid of this resolution takes.
     pub fn bytes(&self) -> u64 {
+        self.counter_bytes() + self.resident_bytes()
+    }
+
+    /// Bytes of what the frame keeps after the voxelization: the texture (4 a voxel) and the
+    /// occupancy blocks.
+    pub fn resident_bytes(&self) -> u64 {
         let voxels = u64::from(self.resolution).pow(3);
         let blocks = u64::from(self.resolution.div_ceil(OCCUPANCY_BLOCK)).pow(3);
-        voxels * (3 * 4 + 8) + blocks * 4
+        voxels * 4 + blocks * 4
+    }
+
+    /// Bytes of the voxelization's scratch: the count and the two tangent-sum words a voxel.
+    pub fn counter_bytes(&self) -> u64 {
+        u64::from(self.resolution).pow(3) * 3 * 4
     }
 }
 
@@ -394,6 +412,9 @@ pub struct VolumeStats {
     pub deposits: u32,
     /// Samples dropped because their voxel's counter was at the capacity.
     pub dropped: u32,
+    /// Voxels whose reconstruction filter summed more counts than a texel holds (255; vertices
+    /// mode only), clamped.
+    pub saturated: u32,
 }
 
 #[cfg(test)]
@@ -410,8 +431,11 @@ mod tests {
         );
         assert_eq!(s.voxelize, VoxelizeMode::Segments);
         assert!(!s.skip_empty);
-        // 256³: 3 counter buffers of 64 MiB (each inside lavapipe's 128 MiB binding) + texture.
-        assert_eq!(s.bytes() - 32u64.pow(3) * 4, 256u64.pow(3) * 20);
+        // 256³: 3 counter buffers of 64 MiB (each inside lavapipe's 128 MiB binding) + a texture
+        // of 4 bytes a voxel (64 MiB) + the occupancy blocks.
+        assert_eq!(s.counter_bytes(), 3 << 26);
+        assert_eq!(s.resident_bytes(), (1 << 26) + 32u64.pow(3) * 4);
+        assert_eq!(s.bytes(), s.counter_bytes() + s.resident_bytes());
     }
 
     #[test]

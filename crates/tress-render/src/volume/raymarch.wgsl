@@ -46,12 +46,12 @@ fn world_at(ndc: vec2<f32>, depth: f32) -> vec3<f32> {
 
 // Radiance of the isosurface point at voxel position `x` seen along `dir`.
 fn shade_volume(x: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
-    let res = f32(volume_grid.res);
+    let vt = volume_texels(volume_grid);
     let p = x / volume_grid.scale + volume_grid.origin;
-    let mean = volume_sample(volume_texture, volume_sampler, res, x).rgb;
+    let mean = volume_sample(volume_texture, volume_sampler, vt, x).rgb;
     let t = select(vec3<f32>(0.0, 1.0, 0.0), normalize(mean), length(mean) > 1e-6);
     let v = -dir;
-    let n = density_normal(density_gradient(volume_texture, volume_sampler, res, x), v);
+    let n = density_normal(density_gradient(volume_texture, volume_sampler, vt, x), v);
     let base = material.base_color;
     var color = lights.ambient * base;
     for (var i = 0u; i < min(lights.count, MAX_LIGHTS); i = i + 1u) {
@@ -119,7 +119,7 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     if t0 >= t1 {
         discard;
     }
-    let res = f32(volume_grid.res);
+    let vt = volume_texels(volume_grid);
     let lo = voxel_from_world(volume_grid, volume_grid.bounds_min);
     let hi = voxel_from_world(volume_grid, volume_grid.bounds_max);
     let step = length(hi - lo + vec3<f32>(2.0)) / f32(max(volume_params.steps, 1u));
@@ -152,7 +152,7 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
             k = max(k + 1u, u32(clamp(last, 0.0, f32(volume_params.steps))));
             continue;
         }
-        let v = volume_sample(volume_texture, volume_sampler, res, x);
+        let v = volume_sample(volume_texture, volume_sampler, vt, x);
         if v.a > 0.0 && !hit {
             hit = true;
             first = x;

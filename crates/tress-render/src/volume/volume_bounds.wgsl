@@ -118,5 +118,9 @@ fn fit() {
     let v1 = fixed_point(g, hi) >> vec3<u32>(SUBVOXEL_BITS);
     g.box_min = max(v0, r) - r;
     g.box_max = min(v1 + vec3<u32>(1u) + r, vec3<u32>(g.res));
+    // The texels' density unit: a count (segments), the filter's weight over its box (vertices).
+    let side = f32(2u * r.x + 1u);
+    g.density_unit = select(1.0, volume.mean_segment_length * g.scale / (side * side * side),
+        volume.voxelize == VOXELIZE_VERTICES);
     set_grid(g);
 }

@@ -4,8 +4,9 @@ use crate::bind::{bind_group_layout, storage, uniform};
 use crate::gpu::pipeline::{compute_pipeline, pipeline_layout};
 use crate::{GpuContext, RenderError, shaders};
 
-/// Format of the volume texture: rgb the mean tangent, a the density (exact integers to 2048).
-pub const VOLUME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Format of the volume texture, 4 bytes a voxel: rgb the mean tangent, a the count, as
+/// `tress_shading::voxelize::encode_texel` writes them.
+pub const VOLUME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 /// The resolve pass: counters to the trilinearly sampled 3D texture, and the occupancy blocks.
 #[derive(Debug)]
@@ -44,6 +45,7 @@ impl VolumeResolve {
                     },
                     storage(6, c, false),
                     storage(7, c, true),
+                    storage(8, c, false),
                 ],
             );
             let pipeline_layout = pipeline_layout(

@@ -1,7 +1,9 @@
 // Volume resolve pass (Jansson 2019 §3.3, Figure 4): one invocation per voxel turns the counters
-// into texels of the 3D volume texture — rgb the de-quantized mean tangent, a the density — with
-// the reconstruction box filter in the vertices mode (twin of tress_shading::voxelize::resolve),
-// and marks the occupancy blocks the voxel's trilinear footprint touches. Owner: `VolumeResolve`.
+// into 8-bit texels of the 3D volume texture — rgb the de-quantized mean tangent, a the count —
+// with the reconstruction box filter in the vertices mode (twin of
+// tress_shading::voxelize::resolve and encode_texel), and marks the occupancy blocks the voxel's
+// trilinear footprint touches. A filter box summing more than 255 counts (vertices mode only: the
+// segments mode's counters hold at most 255) is clamped and counted. Owner: `VolumeResolve`.
 
 #include "common/volume.wgsl"
 
@@ -10,9 +12,10 @@
 @group(0) @binding(2) var<storage, read> counts: array<u32>;
 @group(0) @binding(3) var<storage, read> tangent_xy: array<u32>;
 @group(0) @binding(4) var<storage, read> tangent_z: array<u32>;
-@group(0) @binding(5) var volume_out: texture_storage_3d<rgba16float, write>;
+@group(0) @binding(5) var volume_out: texture_storage_3d<rgba8unorm, write>;
 @group(0) @binding(6) var<storage, read_write> occupancy: array<atomic<u32>>;
 @group(0) @binding(7) var<storage, read> region: ResolveArgs;
+@group(0) @binding(8) var<storage, read_write> stats: VoxelStats;
 
 // Dispatched indirectly over `region` (this frame's box and the last frame's): texels outside
 // this frame's box are zeroed, so every texel outside it holds zero.
@@ -50,12 +53,12 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
             }
         }
     }
-    let side = f32(2 * r + 1);
-    let weight = select(1.0, volume.mean_segment_length * grid.scale, vertices);
-    let density = f32(c) / (side * side * side) * weight;
+    if c > TEXEL_MAX_COUNT {
+        atomicAdd(&stats.saturated, 1u);
+    }
     let tangent = dequantize_tangent(vec3<f32>(sum), f32(c));
-    textureStore(volume_out, v, vec4<f32>(tangent, density));
-    if density > 0.0 {
+    textureStore(volume_out, v, encode_texel(tangent, c));
+    if c > 0u {
         let last = vec3<i32>(i32(volume.occupancy_res) - 1);
         let b0 = clamp((vec3<i32>(v) - vec3<i32>(1)) / i32(OCCUPANCY_BLOCK), vec3<i32>(0), last);
         let b1 = clamp((vec3<i32>(v) + vec3<i32>(1)) / i32(OCCUPANCY_BLOCK), vec3<i32>(0), last);

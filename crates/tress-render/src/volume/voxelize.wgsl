@@ -6,14 +6,6 @@
 #include "common/strand.wgsl"
 #include "common/volume.wgsl"
 
-// Mirrored by `gpu::types::VoxelStats`.
-struct VoxelStats {
-    deposits: atomic<u32>,
-    dropped: atomic<u32>,
-    _pad0: u32,
-    _pad1: u32,
-}
-
 @group(0) @binding(0) var<uniform> volume: VolumeParams;
 @group(0) @binding(1) var<storage, read> grid: VolumeGrid;
 @group(0) @binding(2) var<storage, read_write> counts: array<atomic<u32>>;

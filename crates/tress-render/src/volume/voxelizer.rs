@@ -4,14 +4,15 @@
 use wgpu::util::DeviceExt;
 
 use crate::bind::Layouts;
+use crate::gpu::read_buffer;
 use crate::gpu::types::{BoundsKeys, ResolveArgs, VolumeGrid, VolumeParams, VoxelStats};
-use crate::gpu::{f16_to_f32, read_buffer};
 use crate::strands::StrandGeometry;
 use crate::volume::volume_resolve::VOLUME_FORMAT;
 use crate::volume::{
     OCCUPANCY_BLOCK, VolumeBounds, VolumeResolve, VolumeSettings, VolumeStats, Voxelize,
 };
 use crate::{GpuContext, RenderError};
+use tress_shading::voxelize::decode_texel;
 
 /// The per-resolution resources.
 #[derive(Debug)]
@@ -44,8 +45,10 @@ pub struct VolumeReadback {
     pub counts: Vec<u32>,
     /// Per voxel: quantized tangent sums of the accepted samples (x, y, z).
     pub tangent_sums: Vec<[u32; 3]>,
-    /// Per voxel: the texel (mean tangent, density).
+    /// Per voxel: the texel read as the mean tangent and the density.
     pub texels: Vec<[f32; 4]>,
+    /// Per voxel: the texel's bytes (`tress_shading::voxelize::encode_texel`).
+    pub texel_bytes: Vec<[u8; 4]>,
     /// Per occupancy block: 1 when occupied.
     pub occupancy: Vec<u32>,
     /// Deposits and drops.
@@ -250,6 +253,10 @@ impl Voxelizer {
                 binding: 7,
                 resource: resolve_args.as_entire_binding(),
             });
+            e.push(wgpu::BindGroupEntry {
+                binding: 8,
+                resource: stats.as_entire_binding(),
+            });
             let resolve_group = group("volume/volume_resolve/bind-group", &resolve.layout, &e);
             Grid {
                 res,
@@ -425,6 +432,7 @@ impl Voxelizer {
         Ok(VolumeStats {
             deposits: s.deposits,
             dropped: s.dropped,
+            saturated: s.saturated,
         })
     }
 
@@ -465,11 +473,11 @@ impl Voxelizer {
         let z = words(&g.tangent_z)?;
         let blocks = u64::from(g.res.div_ceil(OCCUPANCY_BLOCK)).pow(3);
         let occupancy = bytemuck::cast_slice(&self.read(ctx, &g.occupancy, blocks * 4)?).to_vec();
-        let grid = bytemuck::pod_read_unaligned(&self.read(ctx, &g.grid, GRID_BYTES)?);
+        let grid: VolumeGrid = bytemuck::pod_read_unaligned(&self.read(ctx, &g.grid, GRID_BYTES)?);
         let keys = bytemuck::pod_read_unaligned(&self.read(ctx, &g.keys, 24)?);
         let stats = bytemuck::pod_read_unaligned(&self.read(ctx, &g.stats, 16)?);
         // The texture, row by row with the copy alignment.
-        let row = g.res * 8;
+        let row = g.res * 4;
         let padded =
             row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         let size = u64::from(padded) * u64::from(g.res) * u64::from(g.res);
@@ -502,11 +510,14 @@ impl Voxelizer {
         })?;
         let bytes = read_buffer(ctx, &staging, 0..size)?;
         let mut texels = Vec::with_capacity(n as usize);
+        let mut texel_bytes = Vec::with_capacity(n as usize);
         for r in 0..(g.res * g.res) as usize {
             let line = &bytes[r * padded as usize..r * padded as usize + row as usize];
-            for t in line.chunks_exact(8) {
-                let h = |i: usize| f16_to_f32(u16::from_le_bytes([t[2 * i], t[2 * i + 1]]));
-                texels.push([h(0), h(1), h(2), h(3)]);
+            for t in line.chunks_exact(4) {
+                let b = [t[0], t[1], t[2], t[3]];
+                texel_bytes.push(b);
+                let (tangent, density) = decode_texel(b, grid.density_unit);
+                texels.push([tangent.x, tangent.y, tangent.z, density]);
             }
         }
         Ok(VolumeReadback {
@@ -519,6 +530,7 @@ impl Voxelizer {
                 .map(|(&xy, &z)| [xy & 0xffff, xy >> 16, z])
                 .collect(),
             texels,
+            texel_bytes,
             occupancy,
             stats,
         })

@@ -62,13 +62,13 @@ fn volume_light_visibility(i: u32, p: vec3<f32>) -> f32 {
     if volume_params.occlusion == OCCLUSION_ADSM {
         let s = volume_grid.scale;
         return volume_adsm_visibility(
-            volume_texture, volume_sampler, f32(volume_grid.res), x, l, volume_params.shadow_step,
+            volume_texture, volume_sampler, volume_texels(volume_grid), x, l, volume_params.shadow_step,
             volume_params.shadow_offset, volume_params.occlusion_width * s,
             volume_params.occlusion_r * log(1.0 - min(volume_params.shadow_alpha, 0.999999)) / s,
             volume_params.occlusion_bias * s);
     }
     let n = volume_shadow_strands(
-        volume_texture, volume_sampler, f32(volume_grid.res), x, l, volume_params.shadow_step,
+        volume_texture, volume_sampler, volume_texels(volume_grid), x, l, volume_params.shadow_step,
         volume_params.shadow_offset, volume_occlusion_cap());
     return strand_visibility(n * volume_hit_fraction(), volume_params.shadow_alpha);
 }
@@ -95,7 +95,7 @@ fn volume_ambient_occlusion(p: vec3<f32>) -> f32 {
         return 1.0;
     }
     return volume_ao(
-        volume_texture, volume_sampler, f32(volume_grid.res), voxel_from_world(volume_grid, p),
+        volume_texture, volume_sampler, volume_texels(volume_grid), voxel_from_world(volume_grid, p),
         volume_params.ao_radius * volume_grid.scale, volume_params.ao_samples,
         volume_params.ao_intensity * volume_hit_fraction(), volume_params.shadow_alpha,
         volume_occlusion_cap());

@@ -26,6 +26,18 @@ struct VolumeGrid {
     // 1 when the hair has vertices (the box is valid).
     occupied: u32,
     box_max: vec3<u32>,
+    // Strands per level of the texture's 8-bit density: 1 in the segments mode (the texel holds
+    // the count), the filter's weight over its box in the vertices mode (the texel holds the
+    // box's summed count).
+    density_unit: f32,
+}
+
+// What the voxelizer counts (mirrored by `gpu::types::VoxelStats`): samples deposited and
+// dropped at a full counter (voxelize), filter boxes clamped to the texel's 255 (resolve).
+struct VoxelStats {
+    deposits: atomic<u32>,
+    dropped: atomic<u32>,
+    saturated: atomic<u32>,
     _pad0: u32,
 }
 
@@ -112,6 +124,9 @@ const GRID_PAD: u32 = 2u;
 const SUBVOXEL: u32 = 16u;
 const SUBVOXEL_BITS: u32 = 4u;
 const TANGENT_LEVELS: f32 = 255.0;
+const TEXEL_TANGENT_ZERO: f32 = 128.0;
+const TEXEL_TANGENT_SCALE: f32 = 127.0;
+const TEXEL_MAX_COUNT: u32 = 255u;
 const MAX_MARCH_STEPS: u32 = 4096u;
 const MAX_AO_SAMPLES: u32 = 64u;
 // The cap of volume_shadow_strands and volume_ao that caps nothing (tress_shading::NO_CAP).
@@ -156,6 +171,28 @@ fn dequantize_tangent(sum: vec3<f32>, count: f32) -> vec3<f32> {
     return sum / count / TANGENT_LEVELS * 2.0 - vec3<f32>(1.0);
 }
 
+// The volume texture's texels (rgba8unorm, 4 bytes a voxel): rgb the mean tangent `t` stored as
+// `u = t / |t|^(2/3)` (so `|u| = |t|^(1/3)`), each channel 128 + floor(127 u + 1/2): a short mean
+// tangent (spread directions, faded tips) keeps its direction to about a degree where a linear
+// 8-bit store would turn it by ten; a the clamped count (segments mode) or the filter box's summed
+// count (vertices mode), at most 255.
+fn encode_texel(tangent: vec3<f32>, count: u32) -> vec4<f32> {
+    let len = length(tangent);
+    let u = select(vec3<f32>(0.0), tangent * pow(max(len, 1e-30), -2.0 / 3.0), len > 0.0);
+    let c = clamp(u, vec3<f32>(-1.0), vec3<f32>(1.0));
+    let t = TEXEL_TANGENT_ZERO + floor(c * TEXEL_TANGENT_SCALE + 0.5);
+    return vec4<f32>(t, f32(min(count, TEXEL_MAX_COUNT))) / 255.0;
+}
+
+// A texel as loaded (normalized) as the mean tangent and the density in strands. A texel without
+// strands has no tangent, whatever its rgb (the resolve and a new texture write zeros).
+fn decode_texel(raw: vec4<f32>, density_unit: f32) -> vec4<f32> {
+    let b = floor(raw * 255.0 + 0.5);
+    let u = (b.rgb - vec3<f32>(TEXEL_TANGENT_ZERO)) / TEXEL_TANGENT_SCALE;
+    let t = select(vec3<f32>(0.0), u * dot(u, u), b.a > 0.0);
+    return vec4<f32>(t, b.a * density_unit);
+}
+
 fn segment_tangent(p0: vec3<f32>, p1: vec3<f32>) -> vec3<f32> {
     let d = p1 - p0;
     let len = length(d);
@@ -194,15 +231,49 @@ fn segment_sample(a: vec3<i32>, d: vec3<i32>, k: u32, n: u32) -> vec3<u32> {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Volume shading (tress_shading::volume). `tex` holds the mean tangent in rgb and the density in
-// a; `samp` is linear and clamps to the edge.
+// Volume shading (tress_shading::volume). `tex` holds texels as `encode_texel` writes them, `vt`
+// says how they read; `samp` is linear and clamps to the edge.
 
-fn volume_sample(tex: texture_3d<f32>, samp: sampler, res: f32, x: vec3<f32>) -> vec4<f32> {
-    return textureSampleLevel(tex, samp, x / res, 0.0);
+// How the texels of a volume read: its voxels per axis and density unit.
+struct VolumeTexels {
+    res: f32,
+    density_unit: f32,
 }
 
-fn volume_density(tex: texture_3d<f32>, samp: sampler, res: f32, x: vec3<f32>) -> f32 {
-    return volume_sample(tex, samp, res, x).a;
+fn volume_texels(grid: VolumeGrid) -> VolumeTexels {
+    return VolumeTexels(f32(grid.res), grid.density_unit);
+}
+
+// The mean tangent (rgb) and the density (a) at voxel position `x`, trilinearly filtered in the
+// shader from the eight texels around it (clamped to the edge, as the sampler would), each decoded
+// first: the texels' tangents are not linear in what they hold, and hardware filters of 8-bit
+// texels may round the result to 8 bits (lavapipe does), which would round every density between
+// two voxels to a whole strand. `samp` is unused (kept for the callers' one signature).
+fn volume_sample(tex: texture_3d<f32>, samp: sampler, vt: VolumeTexels, x: vec3<f32>) -> vec4<f32> {
+    let p = x - vec3<f32>(0.5);
+    let f = floor(p);
+    let w = p - f;
+    let last = vec3<i32>(i32(vt.res) - 1);
+    let i0 = clamp(vec3<i32>(f), vec3<i32>(0), last);
+    let i1 = clamp(vec3<i32>(f) + vec3<i32>(1), vec3<i32>(0), last);
+    let u = vt.density_unit;
+    let c000 = decode_texel(textureLoad(tex, vec3<i32>(i0.x, i0.y, i0.z), 0), u);
+    let c100 = decode_texel(textureLoad(tex, vec3<i32>(i1.x, i0.y, i0.z), 0), u);
+    let c010 = decode_texel(textureLoad(tex, vec3<i32>(i0.x, i1.y, i0.z), 0), u);
+    let c110 = decode_texel(textureLoad(tex, vec3<i32>(i1.x, i1.y, i0.z), 0), u);
+    let c001 = decode_texel(textureLoad(tex, vec3<i32>(i0.x, i0.y, i1.z), 0), u);
+    let c101 = decode_texel(textureLoad(tex, vec3<i32>(i1.x, i0.y, i1.z), 0), u);
+    let c011 = decode_texel(textureLoad(tex, vec3<i32>(i0.x, i1.y, i1.z), 0), u);
+    let c111 = decode_texel(textureLoad(tex, vec3<i32>(i1.x, i1.y, i1.z), 0), u);
+    let c00 = mix(c000, c100, w.x);
+    let c10 = mix(c010, c110, w.x);
+    let c01 = mix(c001, c101, w.x);
+    let c11 = mix(c011, c111, w.x);
+    return mix(mix(c00, c10, w.y), mix(c01, c11, w.y), w.z);
+}
+
+fn volume_density(tex: texture_3d<f32>, samp: sampler, vt: VolumeTexels, x: vec3<f32>) -> f32 {
+    return volume_sample(tex, samp, vt, x).a;
 }
 
 fn ray_box(o: vec3<f32>, d: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) -> vec2<f32> {
@@ -217,19 +288,19 @@ fn ray_box(o: vec3<f32>, d: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) -> vec2<f32
 fn volume_shadow_strands(
     tex: texture_3d<f32>,
     samp: sampler,
-    res: f32,
+    vt: VolumeTexels,
     x: vec3<f32>,
     l: vec3<f32>,
     step: f32,
     offset: f32,
     cap: f32,
 ) -> f32 {
-    let span = ray_box(x, l, vec3<f32>(0.0), vec3<f32>(res));
+    let span = ray_box(x, l, vec3<f32>(0.0), vec3<f32>(vt.res));
     var t = max(offset, span.x);
     var n = 0.0;
     var i = 0u;
     while i < MAX_MARCH_STEPS && t < span.y {
-        n = n + min(volume_density(tex, samp, res, x + l * t), cap) * step;
+        n = n + min(volume_density(tex, samp, vt, x + l * t), cap) * step;
         t = t + step;
         i = i + 1u;
     }
@@ -250,7 +321,7 @@ fn ao_offset(i: u32, n: u32) -> vec3<f32> {
 fn volume_ao(
     tex: texture_3d<f32>,
     samp: sampler,
-    res: f32,
+    vt: VolumeTexels,
     x: vec3<f32>,
     radius: f32,
     samples: u32,
@@ -264,20 +335,20 @@ fn volume_ao(
     }
     var sum = 0.0;
     for (var i = 0u; i < n; i = i + 1u) {
-        sum = sum + min(volume_density(tex, samp, res, x + ao_offset(i, n) * radius), cap);
+        sum = sum + min(volume_density(tex, samp, vt, x + ao_offset(i, n) * radius), cap);
     }
     let mean = sum / f32(n);
     return strand_visibility(intensity * mean * radius, alpha);
 }
 
-fn density_gradient(tex: texture_3d<f32>, samp: sampler, res: f32, x: vec3<f32>) -> vec3<f32> {
+fn density_gradient(tex: texture_3d<f32>, samp: sampler, vt: VolumeTexels, x: vec3<f32>) -> vec3<f32> {
     let ex = vec3<f32>(1.0, 0.0, 0.0);
     let ey = vec3<f32>(0.0, 1.0, 0.0);
     let ez = vec3<f32>(0.0, 0.0, 1.0);
     return vec3<f32>(
-        volume_density(tex, samp, res, x + ex) - volume_density(tex, samp, res, x - ex),
-        volume_density(tex, samp, res, x + ey) - volume_density(tex, samp, res, x - ey),
-        volume_density(tex, samp, res, x + ez) - volume_density(tex, samp, res, x - ez),
+        volume_density(tex, samp, vt, x + ex) - volume_density(tex, samp, vt, x - ex),
+        volume_density(tex, samp, vt, x + ey) - volume_density(tex, samp, vt, x - ey),
+        volume_density(tex, samp, vt, x + ez) - volume_density(tex, samp, vt, x - ez),
     ) * 0.5;
 }
 
@@ -315,7 +386,7 @@ fn composite_point_reached(tr: f32, m: u32, k: u32) -> bool {
 fn volume_adsm_visibility(
     tex: texture_3d<f32>,
     samp: sampler,
-    res: f32,
+    vt: VolumeTexels,
     x: vec3<f32>,
     l: vec3<f32>,
     step: f32,
@@ -324,13 +395,13 @@ fn volume_adsm_visibility(
     ln_keep: f32,
     bias: f32,
 ) -> f32 {
-    let span = ray_box(x, l, vec3<f32>(0.0), vec3<f32>(res));
+    let span = ray_box(x, l, vec3<f32>(0.0), vec3<f32>(vt.res));
     var t = max(offset, span.x);
     var seen = 0.0;
     var none = 1.0;
     var i = 0u;
     while i < MAX_MARCH_STEPS && t < span.y {
-        let p = 1.0 - exp(-volume_density(tex, samp, res, x + l * t) * step * width);
+        let p = 1.0 - exp(-volume_density(tex, samp, vt, x + l * t) * step * width);
         seen = seen * (1.0 - p) + p * exp(ln_keep * max(t - bias, 0.0));
         none = none * (1.0 - p);
         t = t + step;
