@@ -51,7 +51,10 @@ fn volume_and_hybrid_render_and_report_the_volume() {
     assert_eq!(v["technique"], "volume");
     assert_eq!(v["volume"]["resolution"], 32);
     // 12 bytes of counters and a 4-byte texel a voxel, one word an occupancy block.
-    assert_eq!(v["volume"]["bytes"], 32 * 32 * 32 * (12 + 4) + 4 * 4 * 4 * 4);
+    assert_eq!(
+        v["volume"]["bytes"],
+        32 * 32 * 32 * (12 + 4) + 4 * 4 * 4 * 4
+    );
     assert!(v["volume"]["voxelize_ms"].is_number() || v["volume"]["voxelize_ms"].is_null());
     assert_eq!(v["ppll"]["used"], 0);
     assert!(hair_pixels(&image(&png)) > 96 * 64 / 50);

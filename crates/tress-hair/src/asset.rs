@@ -30,6 +30,20 @@ pub struct Aabb {
 }
 
 impl Aabb {
+    /// The empty box (the identity of [`Aabb::union`] and [`Aabb::grow`]).
+    pub const EMPTY: Aabb = Aabb {
+        min: Vec3::INFINITY,
+        max: Vec3::NEG_INFINITY,
+    };
+
+    /// The smallest box holding `self` and `p`.
+    pub fn grow(self, p: Vec3) -> Aabb {
+        Aabb {
+            min: self.min.min(p),
+            max: self.max.max(p),
+        }
+    }
+
     /// The box around a set of points; `None` for an empty set.
     pub fn from_points(points: &[Vec3]) -> Option<Self> {
         let first = *points.first()?;

@@ -7,6 +7,7 @@
 //! and never panics.
 
 mod asset;
+pub mod bvh;
 mod error;
 mod follow;
 pub mod formats;

@@ -34,35 +34,7 @@
 
 use glam::Vec3;
 
-/// A ray `origin + t·dir` for `t_min < t < t_max`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Ray {
-    /// Start point.
-    pub origin: Vec3,
-    /// Unit direction.
-    pub dir: Vec3,
-    /// Hits at or before this distance are ignored.
-    pub t_min: f32,
-    /// Hits at or after this distance are ignored.
-    pub t_max: f32,
-}
-
-impl Ray {
-    /// A ray over `(t_min, t_max)`; `dir` must be a unit vector.
-    pub fn new(origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> Self {
-        Ray {
-            origin,
-            dir,
-            t_min,
-            t_max,
-        }
-    }
-
-    /// The point at distance `t`.
-    pub fn at(&self, t: f32) -> Vec3 {
-        self.origin + t * self.dir
-    }
-}
+pub use tress_hair::bvh::Ray;
 
 /// A ray's entry into a capsule.
 #[derive(Clone, Copy, Debug, PartialEq)]

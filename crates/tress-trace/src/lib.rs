@@ -136,7 +136,8 @@
 //! cargo bench -p tress-trace --bench trace   # 10% ponytail: BVH 1.2 s, 64x64 at 4 spp 82 ms
 //! ```
 
-pub mod bvh;
+/// The BVH (shared with the patches' AO bake in `tress-hair`).
+pub use tress_hair::bvh;
 pub mod chiang;
 mod error;
 pub mod geometry;

@@ -3,8 +3,9 @@
 
 use glam::Vec3;
 use proptest::prelude::*;
+use tress_hair::Aabb;
 use tress_hair::rng::Rng;
-use tress_trace::bvh::{Bounds, Bvh, Visit};
+use tress_trace::bvh::{Bvh, Split, Visit};
 use tress_trace::geometry::{Ray, intersect_capsule, intersect_triangle};
 
 #[derive(Clone, Copy, Debug)]
@@ -21,13 +22,13 @@ impl Prim {
         }
     }
 
-    fn bounds(&self) -> Bounds {
+    fn bounds(&self) -> Aabb {
         match *self {
-            Prim::Capsule { a, b, r } => Bounds {
+            Prim::Capsule { a, b, r } => Aabb {
                 min: a.min(b) - Vec3::splat(r),
                 max: a.max(b) + Vec3::splat(r),
             },
-            Prim::Tri { v0, e1, e2 } => Bounds::EMPTY.grow(v0).grow(v0 + e1).grow(v0 + e2),
+            Prim::Tri { v0, e1, e2 } => Aabb::EMPTY.grow(v0).grow(v0 + e1).grow(v0 + e2),
         }
     }
 }
@@ -70,8 +71,26 @@ fn scene(seed: u64, capsules: usize, triangles: usize) -> Vec<Prim> {
 
 fn check(seed: u64, capsules: usize, triangles: usize, rays: usize) -> Result<(), TestCaseError> {
     let prims = scene(seed, capsules, triangles);
-    let bounds: Vec<Bounds> = prims.iter().map(Prim::bounds).collect();
-    let bvh = Bvh::build(&bounds);
+    let bounds: Vec<Aabb> = prims.iter().map(Prim::bounds).collect();
+    for split in [Split::Median, Split::Sah] {
+        check_with(
+            &prims,
+            &Bvh::build(&bounds, split),
+            seed,
+            rays,
+            capsules >= 1000,
+        )?;
+    }
+    Ok(())
+}
+
+fn check_with(
+    prims: &[Prim],
+    bvh: &Bvh,
+    seed: u64,
+    rays: usize,
+    dense: bool,
+) -> Result<(), TestCaseError> {
     let order = bvh.order();
     let mut rng = Rng::new(seed ^ 0xabc);
     let mut hits = 0;
@@ -119,7 +138,7 @@ fn check(seed: u64, capsules: usize, triangles: usize, rays: usize) -> Result<()
         prop_assert_eq!(all, visited);
     }
     // Dense scenes make many rays hit something, so the comparison is not vacuous.
-    if capsules >= 1000 {
+    if dense {
         prop_assert!(hits * 4 > rays, "only {} of {} rays hit", hits, rays);
     }
     Ok(())
@@ -147,8 +166,8 @@ fn large_scene_matches_brute_force() {
 #[test]
 fn early_stop_visits_no_more() {
     let prims = scene(3, 2000, 0);
-    let bounds: Vec<Bounds> = prims.iter().map(Prim::bounds).collect();
-    let bvh = Bvh::build(&bounds);
+    let bounds: Vec<Aabb> = prims.iter().map(Prim::bounds).collect();
+    let bvh = Bvh::build(&bounds, Split::Sah);
     let ray = Ray::new(Vec3::new(-20.0, 0.0, 0.0), Vec3::X, 0.0, f32::INFINITY);
     let mut n = 0;
     bvh.for_each_hit(&ray, |_| {

@@ -49,7 +49,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::PatchMesh;
-use super::bvh::Bvh;
+use super::occluders::Occluders;
 use crate::generate::TriMesh;
 use crate::rng::Rng;
 use crate::{Aabb, HairError};
@@ -152,7 +152,7 @@ pub fn bake_ao(
     }
     let patches = mesh.triangle_count();
     let patch_transmit = 1.0 - params.patch_opacity;
-    let bvh = Bvh::new(
+    let bvh = Occluders::new(
         &triangles,
         |i| if i < patches { patch_transmit } else { 0.0 },
     );
@@ -180,7 +180,7 @@ pub fn bake_ao(
 
 /// Mean transmittance of `params.rays` cosine-weighted rays around `axis` from `origin` up to
 /// `max_distance`.
-fn visibility(bvh: &Bvh, origin: Vec3, axis: Vec3, params: &AoParams, rng: &mut Rng) -> f32 {
+fn visibility(bvh: &Occluders, origin: Vec3, axis: Vec3, params: &AoParams, rng: &mut Rng) -> f32 {
     let (b1, b2) = axis.any_orthonormal_pair();
     let mut open = 0.0f32;
     for _ in 0..params.rays {

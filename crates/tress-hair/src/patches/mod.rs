@@ -45,10 +45,10 @@
 //! the normal points to; patches are drawn two-sided all the same.
 
 pub mod ao;
-mod bvh;
 pub mod cards;
 pub mod generate;
 pub mod obj;
+mod occluders;
 pub mod sort;
 pub mod texture;
 

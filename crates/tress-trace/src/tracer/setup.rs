@@ -9,9 +9,9 @@ use tress_hair::generate::TriMesh;
 use tress_scene::{HeadSource, Scene};
 use tress_shading::tip_fade;
 
-use crate::bvh::Bounds;
 use crate::geometry::{Ray, closest_segment_param, intersect_capsule};
 use crate::{StrandWidth, TraceError, TraceSettings};
+use tress_hair::Aabb;
 
 /// Subdivisions of the generated head's mesh, as `tress_render::scene_setup` draws it.
 pub const HEAD_SUBDIVISIONS: u32 = 64;
@@ -319,7 +319,7 @@ impl Primitives {
                 let s0 = k as f32 / pieces as f32;
                 let s1 = (k + 1) as f32 / pieces as f32;
                 let (p0, p1) = (s.a + e * s0, s.a + e * s1);
-                bounds.push(Bounds {
+                bounds.push(Aabb {
                     min: p0.min(p1) - r,
                     max: p0.max(p1) + r,
                 });
@@ -353,7 +353,7 @@ impl Primitives {
                     .ok()
                     .filter(|&i| i < TRIANGLE)
                     .ok_or_else(|| TraceError::Invalid("head mesh: too many triangles".into()))?;
-                bounds.push(Bounds::EMPTY.grow(p0).grow(p1).grow(p2));
+                bounds.push(Aabb::EMPTY.grow(p0).grow(p1).grow(p2));
                 refs.push(Ref {
                     id: id | TRIANGLE,
                     s0: 0.0,
@@ -367,7 +367,8 @@ impl Primitives {
                 });
             }
         }
-        let bvh = crate::bvh::Bvh::build(&bounds);
+        // Median splits: 1.6-2x faster than SAH on strands, measured (tress_hair::bvh docs).
+        let bvh = crate::bvh::Bvh::build(&bounds, crate::bvh::Split::Median);
         let refs = bvh.order().iter().map(|&i| refs[i as usize]).collect();
         Ok(Primitives {
             segments,

@@ -1,9 +1,22 @@
-//! A bounding-volume hierarchy over primitive boxes, built with the binned surface area
-//! heuristic (SAH) and traversed with a small fixed stack.
+//! The one bounding-volume hierarchy of tress, over primitive boxes ([`Aabb`]), built top-down
+//! with one of two split rules ([`Split`]) and traversed with a small fixed stack. The reference
+//! ray tracer (`tress-trace`, nearest hits on strands and the head) and the patches' ambient
+//! occlusion bake ([`crate::patches::bake_ao`], all hits through translucent patches) both use
+//! it, each with the rule that measured faster on it:
+//!
+//! | workload (`cargo bench`) | [`Split::Median`] | [`Split::Sah`] |
+//! | --- | --- | --- |
+//! | tracer, full ponytail (136,320 strands) 128² at 1 spp (`-p tress-trace --bench trace`) | **72 ms** | 116–147 ms |
+//! | tracer BVH build, ponytail at 10% | **170 ms** | 400–440 ms |
+//! | AO bake of the default patch head, 64 rays a hemisphere (`-p tress-hair --bench ao`) | 416 ms | **323 ms** |
+//!
+//! (The bake's own median-split hierarchy, which this one replaced, took 464 ms.) The strands'
+//! capsule boxes are long, thin and overlap; SAH's cheapest cuts leave them in deep, uneven
+//! trees, while the bake's small triangles fit SAH's model.
 //!
 //! # Implementation
 //!
-//! - **Build.** Top-down. A node's primitives are binned by centroid into [`BINS`] slots along
+//! - **Build.** Top-down. With [`Split::Sah`] a node's primitives are binned by centroid into [`BINS`] slots along
 //!   each axis of their centroid box; every boundary between bins is scored with the SAH cost
 //!   `C = area(L)·n(L) + area(R)·n(R)` (relative to the parent's area, traversal and intersection
 //!   cost taken equal), and the cheapest split wins if it beats making a leaf
@@ -20,7 +33,17 @@
 
 use glam::Vec3;
 
-use crate::geometry::Ray;
+use crate::Aabb;
+
+/// How [`Bvh::build`] splits a node.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Split {
+    /// At the centroid median of the longest axis (the ray tracer's strands).
+    Median,
+    /// At the cheapest binned SAH boundary, down to depth [`SAH_DEPTH`] (the AO bake's
+    /// triangles).
+    Sah,
+}
 
 /// Centroid bins per axis.
 pub const BINS: usize = 12;
@@ -34,64 +57,56 @@ const PARALLEL_MIN: usize = 8192;
 /// up to 2^32 primitives).
 const STACK: usize = 96;
 
-/// An axis-aligned box.
+/// A ray `origin + t·dir` for `t_min < t < t_max`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Bounds {
-    /// Smallest corner.
-    pub min: Vec3,
-    /// Largest corner.
-    pub max: Vec3,
+pub struct Ray {
+    /// Start point.
+    pub origin: Vec3,
+    /// Unit direction.
+    pub dir: Vec3,
+    /// Hits at or before this distance are ignored.
+    pub t_min: f32,
+    /// Hits at or after this distance are ignored.
+    pub t_max: f32,
 }
 
-impl Bounds {
-    /// The empty box (union identity).
-    pub const EMPTY: Bounds = Bounds {
-        min: Vec3::INFINITY,
-        max: Vec3::NEG_INFINITY,
-    };
-
-    /// The smallest box holding both.
-    pub fn union(self, o: Bounds) -> Bounds {
-        Bounds {
-            min: self.min.min(o.min),
-            max: self.max.max(o.max),
+impl Ray {
+    /// A ray over `(t_min, t_max)`; `dir` must be a unit vector.
+    pub fn new(origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> Self {
+        Ray {
+            origin,
+            dir,
+            t_min,
+            t_max,
         }
     }
 
-    /// The smallest box holding `self` and `p`.
-    pub fn grow(self, p: Vec3) -> Bounds {
-        Bounds {
-            min: self.min.min(p),
-            max: self.max.max(p),
-        }
+    /// The point at distance `t`.
+    pub fn at(&self, t: f32) -> Vec3 {
+        self.origin + t * self.dir
     }
+}
 
-    /// Centre.
-    pub fn center(&self) -> Vec3 {
-        (self.min + self.max) * 0.5
-    }
+/// Half the surface area (0 for empty or flat boxes is fine: only ratios are used).
+fn half_area(b: &Aabb) -> f32 {
+    let e = (b.max - b.min).max(Vec3::ZERO);
+    e.x * e.y + e.y * e.z + e.z * e.x
+}
 
-    /// Half the surface area (0 for empty or flat boxes is fine: only ratios are used).
-    fn half_area(&self) -> f32 {
-        let e = (self.max - self.min).max(Vec3::ZERO);
-        e.x * e.y + e.y * e.z + e.z * e.x
-    }
-
-    /// The interval of `t` in which the ray (with `inv_dir = 1 / dir`) is inside the box,
-    /// clipped to `(t_min, t_max)`; `None` if empty.
-    #[inline]
-    fn slab(&self, origin: Vec3, inv_dir: Vec3, t_min: f32, t_max: f32) -> Option<f32> {
-        let t0 = (self.min - origin) * inv_dir;
-        let t1 = (self.max - origin) * inv_dir;
-        let near = t0.min(t1).max_element().max(t_min);
-        let far = t0.max(t1).min_element().min(t_max);
-        (near <= far).then_some(near)
-    }
+/// The interval of `t` in which the ray (with `inv_dir = 1 / dir`) is inside the box, clipped
+/// to `(t_min, t_max)`: its start, `None` if empty.
+#[inline]
+fn slab(b: &Aabb, origin: Vec3, inv_dir: Vec3, t_min: f32, t_max: f32) -> Option<f32> {
+    let t0 = (b.min - origin) * inv_dir;
+    let t1 = (b.max - origin) * inv_dir;
+    let near = t0.min(t1).max_element().max(t_min);
+    let far = t0.max(t1).min_element().min(t_max);
+    (near <= far).then_some(near)
 }
 
 #[derive(Clone, Copy, Debug)]
 struct Node {
-    bounds: Bounds,
+    bounds: Aabb,
     /// Leaf: first index into `order`; inner node: index of the right child.
     index: u32,
     /// Leaf: number of primitives (> 0); inner node: 0.
@@ -116,15 +131,19 @@ pub enum Visit {
 
 impl Bvh {
     /// Build over primitives with the given boxes (non-finite boxes are treated as empty and
-    /// never visited).
-    pub fn build(bounds: &[Bounds]) -> Bvh {
+    /// never visited), splitting nodes by `split`.
+    pub fn build(bounds: &[Aabb], split: Split) -> Bvh {
         if bounds.is_empty() {
             return Bvh {
                 nodes: Vec::new(),
                 order: Vec::new(),
             };
         }
-        let (nodes, order) = build_all(bounds);
+        let sah_depth = match split {
+            Split::Median => 0,
+            Split::Sah => SAH_DEPTH,
+        };
+        let (nodes, order) = build_all(bounds, sah_depth);
         Bvh { nodes, order }
     }
 
@@ -173,9 +192,7 @@ impl Bvh {
         let mut stack = [0u32; STACK];
         let mut top = 0usize;
         let mut at = 0usize;
-        self.nodes[0]
-            .bounds
-            .slab(ray.origin, inv, ray.t_min, ray.t_max)?;
+        slab(&self.nodes[0].bounds, ray.origin, inv, ray.t_min, ray.t_max)?;
         loop {
             let node = self.nodes[at];
             if node.count > 0 {
@@ -190,12 +207,8 @@ impl Bvh {
                 }
             } else {
                 let (l, r) = (at + 1, node.index as usize);
-                let tl = self.nodes[l]
-                    .bounds
-                    .slab(ray.origin, inv, ray.t_min, ray.t_max);
-                let tr = self.nodes[r]
-                    .bounds
-                    .slab(ray.origin, inv, ray.t_min, ray.t_max);
+                let tl = slab(&self.nodes[l].bounds, ray.origin, inv, ray.t_min, ray.t_max);
+                let tr = slab(&self.nodes[r].bounds, ray.origin, inv, ray.t_min, ray.t_max);
                 match (tl, tr) {
                     (Some(a), Some(b)) => {
                         let (near, far) = if a <= b { (l, r) } else { (r, l) };
@@ -224,11 +237,7 @@ impl Bvh {
                 }
                 top -= 1;
                 let n = stack[top] as usize;
-                if self.nodes[n]
-                    .bounds
-                    .slab(ray.origin, inv, ray.t_min, ray.t_max)
-                    .is_some()
-                {
+                if slab(&self.nodes[n].bounds, ray.origin, inv, ray.t_min, ray.t_max).is_some() {
                     at = n;
                     break;
                 }
@@ -249,11 +258,7 @@ impl Bvh {
             top -= 1;
             let at = stack[top] as usize;
             let node = self.nodes[at];
-            if node
-                .bounds
-                .slab(ray.origin, inv, ray.t_min, ray.t_max)
-                .is_none()
-            {
+            if slab(&node.bounds, ray.origin, inv, ray.t_min, ray.t_max).is_none() {
                 continue;
             }
             if node.count > 0 {
@@ -275,7 +280,7 @@ impl Bvh {
 /// A primitive during the build: its box and its index.
 #[derive(Clone, Copy, Debug)]
 struct Item {
-    bounds: Bounds,
+    bounds: Aabb,
     index: u32,
 }
 
@@ -289,7 +294,7 @@ impl Item {
 }
 
 /// Build over `bounds`: the nodes (root first) and the leaf order.
-fn build_all(bounds: &[Bounds]) -> (Vec<Node>, Vec<u32>) {
+fn build_all(bounds: &[Aabb], sah_depth: usize) -> (Vec<Node>, Vec<u32>) {
     let mut items: Vec<Item> = bounds
         .iter()
         .enumerate()
@@ -297,23 +302,29 @@ fn build_all(bounds: &[Bounds]) -> (Vec<Node>, Vec<u32>) {
             bounds: if b.min.is_finite() && b.max.is_finite() {
                 *b
             } else {
-                Bounds::EMPTY
+                Aabb::EMPTY
             },
             index: i as u32,
         })
         .collect();
     let mut nodes = Vec::with_capacity(2 * items.len() / MAX_LEAF + 1);
-    build_into(&mut items, 0, 0, &mut nodes);
+    build_into(&mut items, 0, 0, sah_depth, &mut nodes);
     (nodes, items.iter().map(|i| i.index).collect())
 }
 
 /// Append the subtree over `items` (which start at `offset` in the final order) to `nodes`,
 /// root first, with node indices relative to the start of `nodes`.
-fn build_into(items: &mut [Item], offset: usize, depth: usize, nodes: &mut Vec<Node>) {
+fn build_into(
+    items: &mut [Item],
+    offset: usize,
+    depth: usize,
+    sah_depth: usize,
+    nodes: &mut Vec<Node>,
+) {
     let n = items.len();
     let node_bounds = items
         .iter()
-        .fold(Bounds::EMPTY, |acc, it| acc.union(it.bounds));
+        .fold(Aabb::EMPTY, |acc, it| acc.union(&it.bounds));
     let leaf = Node {
         bounds: node_bounds,
         index: offset as u32,
@@ -325,9 +336,9 @@ fn build_into(items: &mut [Item], offset: usize, depth: usize, nodes: &mut Vec<N
     }
     let centroid_box = items
         .iter()
-        .fold(Bounds::EMPTY, |acc, it| acc.grow(it.centroid()));
+        .fold(Aabb::EMPTY, |acc, it| acc.grow(it.centroid()));
     let extent = centroid_box.max - centroid_box.min;
-    let mid = if depth < SAH_DEPTH && extent.max_element() > 0.0 {
+    let mid = if depth < sah_depth && extent.max_element() > 0.0 {
         match sah_split(items, &centroid_box, &node_bounds) {
             Some(mid) => mid,
             None if n <= MAX_LEAF => {
@@ -353,12 +364,12 @@ fn build_into(items: &mut [Item], offset: usize, depth: usize, nodes: &mut Vec<N
         let (mut l, mut r) = rayon::join(
             || {
                 let mut v = Vec::new();
-                build_into(left, offset, depth + 1, &mut v);
+                build_into(left, offset, depth + 1, sah_depth, &mut v);
                 v
             },
             || {
                 let mut v = Vec::new();
-                build_into(right, offset + mid, depth + 1, &mut v);
+                build_into(right, offset + mid, depth + 1, sah_depth, &mut v);
                 v
             },
         );
@@ -373,16 +384,16 @@ fn build_into(items: &mut [Item], offset: usize, depth: usize, nodes: &mut Vec<N
         nodes.append(&mut l);
         nodes.append(&mut r);
     } else {
-        build_into(left, offset, depth + 1, nodes);
+        build_into(left, offset, depth + 1, sah_depth, nodes);
         nodes[at].index = nodes.len() as u32;
-        build_into(right, offset + mid, depth + 1, nodes);
+        build_into(right, offset + mid, depth + 1, sah_depth, nodes);
     }
 }
 
 /// Partition `items` at the cheapest SAH bin boundary; returns the split position, or `None`
 /// when a leaf is cheaper (only allowed for small nodes, see the caller) or no boundary
 /// separates anything. All three axes are binned in one pass over the items.
-fn sah_split(items: &mut [Item], centroid_box: &Bounds, node_bounds: &Bounds) -> Option<usize> {
+fn sah_split(items: &mut [Item], centroid_box: &Aabb, node_bounds: &Aabb) -> Option<usize> {
     let n = items.len();
     let extent = centroid_box.max - centroid_box.min;
     let scale = Vec3::select(
@@ -393,14 +404,14 @@ fn sah_split(items: &mut [Item], centroid_box: &Bounds, node_bounds: &Bounds) ->
     let bin_of = |c: Vec3, axis: usize| -> usize {
         (((c[axis] - centroid_box.min[axis]) * scale[axis]) as usize).min(BINS - 1)
     };
-    let mut bin_bounds = [[Bounds::EMPTY; BINS]; 3];
+    let mut bin_bounds = [[Aabb::EMPTY; BINS]; 3];
     let mut bin_count = [[0usize; BINS]; 3];
     for it in items.iter() {
         let c = it.centroid();
         for axis in 0..3 {
             let b = bin_of(c, axis);
             bin_count[axis][b] += 1;
-            bin_bounds[axis][b] = bin_bounds[axis][b].union(it.bounds);
+            bin_bounds[axis][b] = bin_bounds[axis][b].union(&it.bounds);
         }
     }
     let mut best: Option<(f32, usize, usize)> = None;
@@ -411,31 +422,31 @@ fn sah_split(items: &mut [Item], centroid_box: &Bounds, node_bounds: &Bounds) ->
         // Sweep from the right to get the right side of every boundary.
         let mut right_area = [0.0f32; BINS];
         let mut right_count = [0usize; BINS];
-        let mut acc = Bounds::EMPTY;
+        let mut acc = Aabb::EMPTY;
         let mut cnt = 0;
         for b in (1..BINS).rev() {
-            acc = acc.union(bin_bounds[axis][b]);
+            acc = acc.union(&bin_bounds[axis][b]);
             cnt += bin_count[axis][b];
-            right_area[b] = acc.half_area();
+            right_area[b] = half_area(&acc);
             right_count[b] = cnt;
         }
-        let mut acc = Bounds::EMPTY;
+        let mut acc = Aabb::EMPTY;
         let mut cnt = 0;
         for b in 0..BINS - 1 {
-            acc = acc.union(bin_bounds[axis][b]);
+            acc = acc.union(&bin_bounds[axis][b]);
             cnt += bin_count[axis][b];
             let (rc, ra) = (right_count[b + 1], right_area[b + 1]);
             if cnt == 0 || rc == 0 {
                 continue;
             }
-            let cost = acc.half_area() * cnt as f32 + ra * rc as f32;
+            let cost = half_area(&acc) * cnt as f32 + ra * rc as f32;
             if best.is_none_or(|(c, _, _)| cost < c) {
                 best = Some((cost, axis, b));
             }
         }
     }
     let (cost, axis, boundary) = best?;
-    let leaf_cost = node_bounds.half_area() * n as f32;
+    let leaf_cost = half_area(node_bounds) * n as f32;
     if n <= MAX_LEAF && cost >= leaf_cost {
         return None;
     }
@@ -452,7 +463,7 @@ fn sah_split(items: &mut [Item], centroid_box: &Bounds, node_bounds: &Bounds) ->
 
 /// Split at the centroid median of the longest axis of the centroid box (at the middle index
 /// when the box is a point).
-fn median_split(items: &mut [Item], centroid_box: &Bounds) -> usize {
+fn median_split(items: &mut [Item], centroid_box: &Aabb) -> usize {
     let mid = items.len() / 2;
     let extent = centroid_box.max - centroid_box.min;
     if extent.max_element().is_nan() || extent.max_element() <= 0.0 {
@@ -474,9 +485,9 @@ fn median_split(items: &mut [Item], centroid_box: &Bounds) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tress_hair::rng::Rng;
+    use crate::rng::Rng;
 
-    fn random_boxes(n: usize, seed: u64) -> Vec<Bounds> {
+    fn random_boxes(n: usize, seed: u64) -> Vec<Aabb> {
         let mut rng = Rng::new(seed);
         (0..n)
             .map(|_| {
@@ -490,7 +501,7 @@ mod tests {
                     rng.range(0.0, 0.5),
                     rng.range(0.0, 0.5),
                 );
-                Bounds {
+                Aabb {
                     min: c - h,
                     max: c + h,
                 }
@@ -500,19 +511,22 @@ mod tests {
 
     #[test]
     fn every_primitive_is_in_exactly_one_leaf_and_inside_its_boxes() {
-        for n in [0usize, 1, 2, 5, 100, 20_000] {
+        for (n, split) in [0usize, 1, 2, 5, 100, 20_000]
+            .into_iter()
+            .flat_map(|n| [(n, Split::Median), (n, Split::Sah)])
+        {
             let boxes = random_boxes(n, n as u64);
-            let bvh = Bvh::build(&boxes);
+            let bvh = Bvh::build(&boxes, split);
             let mut seen = vec![0u32; n];
             for &i in bvh.order() {
                 seen[i as usize] += 1;
             }
             assert!(seen.iter().all(|&c| c == 1), "n = {n}");
             // Each leaf's primitives lie inside every ancestor's box.
-            fn check(bvh: &Bvh, boxes: &[Bounds], at: usize, outer: Bounds) -> usize {
+            fn check(bvh: &Bvh, boxes: &[Aabb], at: usize, outer: Aabb) -> usize {
                 let node = bvh.nodes[at];
                 let inside =
-                    |b: &Bounds| b.min.cmpge(outer.min).all() && b.max.cmple(outer.max).all();
+                    |b: &Aabb| b.min.cmpge(outer.min).all() && b.max.cmple(outer.max).all();
                 assert!(inside(&node.bounds));
                 if node.count > 0 {
                     assert!(node.count as usize <= MAX_LEAF.max(1));
@@ -526,7 +540,7 @@ mod tests {
                 }
             }
             if n > 0 {
-                let all = boxes.iter().copied().fold(Bounds::EMPTY, Bounds::union);
+                let all = boxes.iter().copied().fold(Aabb::EMPTY, |a, b| a.union(&b));
                 assert_eq!(check(&bvh, &boxes, 0, all), n);
                 assert!(bvh.depth() <= STACK, "depth {}", bvh.depth());
             } else {
@@ -537,26 +551,28 @@ mod tests {
 
     #[test]
     fn identical_boxes_still_build_shallow_enough() {
-        let b = Bounds {
+        let b = Aabb {
             min: Vec3::ZERO,
             max: Vec3::ONE,
         };
-        let bvh = Bvh::build(&vec![b; 10_000]);
-        assert_eq!(bvh.order().len(), 10_000);
-        assert!(bvh.depth() <= 20, "{}", bvh.depth());
+        for split in [Split::Median, Split::Sah] {
+            let bvh = Bvh::build(&vec![b; 10_000], split);
+            assert_eq!(bvh.order().len(), 10_000);
+            assert!(bvh.depth() <= 20, "{}", bvh.depth());
+        }
     }
 
     #[test]
     fn slab_test() {
-        let b = Bounds {
+        let b = Aabb {
             min: Vec3::splat(-1.0),
             max: Vec3::splat(1.0),
         };
         let o = Vec3::new(0.0, 0.0, -5.0);
         let inv = Vec3::Z.recip();
-        assert_eq!(b.slab(o, inv, 0.0, 100.0), Some(4.0));
-        assert_eq!(b.slab(o, inv, 0.0, 3.9), None);
-        assert_eq!(b.slab(Vec3::new(2.0, 0.0, -5.0), inv, 0.0, 100.0), None);
-        assert_eq!(b.slab(Vec3::ZERO, inv, 0.0, 100.0), Some(0.0));
+        assert_eq!(slab(&b, o, inv, 0.0, 100.0), Some(4.0));
+        assert_eq!(slab(&b, o, inv, 0.0, 3.9), None);
+        assert_eq!(slab(&b, Vec3::new(2.0, 0.0, -5.0), inv, 0.0, 100.0), None);
+        assert_eq!(slab(&b, Vec3::ZERO, inv, 0.0, 100.0), Some(0.0));
     }
 }
