@@ -17,8 +17,8 @@ use anyhow::{Context, bail};
 use glam::Vec3;
 use tress_hair::HairAsset;
 use tress_render::{
-    COLOR_FORMAT, Camera, DirectionalLight, FrameInputs, GpuContext, HeadGeometry, HeadMesh,
-    Material, OffscreenTargets, Renderer, StrandSettings, TargetFormats, read_texture,
+    COLOR_FORMAT, Camera, DirectionalLight, FrameInputs, GpuContext, HeadGeometry, Material,
+    OffscreenTargets, Renderer, StrandSettings, TargetFormats, TriMesh, read_texture,
 };
 
 /// `strands` strands of `vertices` vertices rooted on the upper part of a sphere of radius 10
@@ -104,7 +104,7 @@ fn main() -> anyhow::Result<()> {
     let asset = hair(strands, vertices)?;
     let mut renderer = Renderer::new(&ctx, TargetFormats::default(), settings)?;
     let geometry = renderer.upload_hair(&ctx, &asset)?;
-    let head = HeadGeometry::new(&ctx, &HeadMesh::uv_sphere(Vec3::ZERO, 9.8, 48, 64))?;
+    let head = HeadGeometry::new(&ctx, &TriMesh::uv_sphere(Vec3::ZERO, 9.8, 48, 64))?;
     let targets = OffscreenTargets::new(&ctx, size, COLOR_FORMAT)?;
     let camera = Camera::look_at(
         Vec3::new(26.0, 10.0, 44.0),

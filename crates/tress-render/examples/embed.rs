@@ -14,8 +14,8 @@ use anyhow::Context;
 use glam::Vec3;
 use tress_hair::HairAsset;
 use tress_render::{
-    Camera, DirectionalLight, FrameInputs, GpuContext, HeadGeometry, HeadMesh, Material, Renderer,
-    StrandSettings, TargetFormats, Targets,
+    Camera, DirectionalLight, FrameInputs, GpuContext, HeadGeometry, Material, Renderer,
+    StrandSettings, TargetFormats, Targets, TriMesh,
 };
 
 /// Strands rooted on the upper half of a sphere, falling under "gravity".
@@ -97,7 +97,7 @@ fn main() -> anyhow::Result<()> {
         },
         StrandSettings::default(),
     )?;
-    let head = HeadGeometry::new(&ctx, &HeadMesh::uv_sphere(Vec3::ZERO, 9.5, 32, 48))?;
+    let head = HeadGeometry::new(&ctx, &TriMesh::uv_sphere(Vec3::ZERO, 9.5, 32, 48))?;
     let strands = renderer.upload_hair(&ctx, &hair(10.0, 3000, 16)?)?;
     let camera = Camera::look_at(
         Vec3::new(30.0, 8.0, 45.0),

@@ -18,10 +18,9 @@ use anyhow::{Context, bail};
 use glam::Vec3;
 use tress_hair::generate::Head;
 use tress_hair::patches::{AoParams, PatchParams, bake_ao, generate_patches};
-use tress_render::patches::scene::head_tri_mesh;
 use tress_render::patches::{PatchFrameInputs, PatchRenderer, PatchSettings, RenderScheme};
 use tress_render::{
-    COLOR_FORMAT, Camera, DirectionalLight, GpuContext, HeadGeometry, HeadMesh, OffscreenTargets,
+    COLOR_FORMAT, Camera, DirectionalLight, GpuContext, HeadGeometry, OffscreenTargets,
     TargetFormats, Timings, read_texture,
 };
 
@@ -90,12 +89,7 @@ fn main() -> anyhow::Result<()> {
         ..Default::default()
     };
     let mut mesh = generate_patches(&params)?;
-    let m = head.mesh(64);
-    let head_mesh = HeadMesh {
-        positions: m.positions,
-        normals: m.normals,
-        indices: m.indices,
-    };
+    let head_mesh = head.mesh(64);
     println!(
         "generated patch head: {} patches, {} vertices, {} triangles; head {} triangles",
         mesh.component_count(),
@@ -110,7 +104,7 @@ fn main() -> anyhow::Result<()> {
         };
         let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
         let start = Instant::now();
-        bake_ao(&mut mesh, Some(&head_tri_mesh(&head_mesh)), &ao)?;
+        bake_ao(&mut mesh, Some(&head_mesh), &ao)?;
         println!(
             "AO bake: {} rays per hemisphere, {:.3} s on {threads} threads",
             o.rays,

@@ -221,7 +221,7 @@ impl Material {
         }
         self.fiber
             .validate()
-            .map_err(|e| RenderError::Invalid(format!("material fibre: {e}")))
+            .map_err(|e| RenderError::setting("material fibre", e))
     }
 
     /// The GPU uniform.

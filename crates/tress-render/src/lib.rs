@@ -57,7 +57,7 @@ pub use gpu::{
     COLOR_FORMAT, ContextOptions, DEPTH_FORMAT, GpuContext, LinearImage, OffscreenTargets,
     TargetFormats, Targets, Timings, read_texture,
 };
-pub use head::{HeadGeometry, HeadMesh};
+pub use head::{HeadGeometry, TriMesh};
 pub use inputs::{Camera, DirectionalLight, Material};
 pub use lod::{HybridSettings, Technique, Transition};
 pub use patches::{

@@ -13,7 +13,7 @@ use tress_hair::HairAsset;
 use tress_scene::{HeadSource, Scene};
 
 use crate::strands::ThicknessFade;
-use crate::{Camera, DirectionalLight, HeadMesh, Material, RenderError, Shading, StrandSettings};
+use crate::{Camera, DirectionalLight, Material, RenderError, Shading, StrandSettings, TriMesh};
 use crate::{HybridSettings, ShadowMode, Transition, VolumeSettings};
 
 /// A scene resolved into renderer inputs (CPU side; upload with the renderer).
@@ -22,7 +22,7 @@ pub struct PreparedScene {
     /// All hair entries merged (`None` when the scene has no hair).
     pub hair: Option<HairAsset>,
     /// The head mesh, if the scene has one.
-    pub head: Option<HeadMesh>,
+    pub head: Option<TriMesh>,
     /// Directional lights, in the renderer's convention (direction of travel).
     pub lights: Vec<DirectionalLight>,
     /// Hair material of the first hair entry (defaults without hair).
@@ -41,28 +41,17 @@ impl PreparedScene {
     /// Load the scene's hair and head and convert its settings. Errors name the file or key.
     pub fn load(scene: &Scene) -> Result<PreparedScene, RenderError> {
         let settings = Self::load_settings(scene)?;
-        let (assets, hair_mesh) = scene.load_hair_and_meshes().map_err(scene_error)?;
+        let (assets, hair_mesh) = scene.load_hair_and_meshes()?;
         let hair = if assets.is_empty() {
             None
         } else {
-            Some(HairAsset::merge(&assets).map_err(|e| RenderError::Invalid(e.to_string()))?)
+            Some(HairAsset::merge(&assets)?)
         };
         let head = match scene.head_source() {
             // USD grooms often carry the head they were groomed on.
-            HeadSource::None => hair_mesh.map(|m| HeadMesh {
-                positions: m.positions,
-                normals: m.normals,
-                indices: m.indices,
-            }),
+            HeadSource::None => hair_mesh,
             HeadSource::Obj(path) => Some(read_obj_mesh(&path)?),
-            HeadSource::Generated(head, shape) => {
-                let m = shape.mesh(&head, 64);
-                Some(HeadMesh {
-                    positions: m.positions,
-                    normals: m.normals,
-                    indices: m.indices,
-                })
-            }
+            HeadSource::Generated(head, shape) => Some(shape.mesh(&head, 64)),
         };
         Ok(PreparedScene {
             hair,
@@ -262,13 +251,9 @@ fn material(m: &tress_scene::Material) -> Result<Material, RenderError> {
         secondary_color: m.secondary_color,
         secondary_exponent: m.secondary_exponent,
         secondary_shift: m.secondary_shift,
-        fiber: m.fiber().map_err(scene_error)?,
+        fiber: m.fiber()?,
         ..Material::default()
     })
-}
-
-fn scene_error(e: tress_scene::SceneError) -> RenderError {
-    RenderError::Invalid(e.to_string())
 }
 
 /// The `[strands]` table: every key optional, unknown keys are errors naming key and line.
@@ -298,7 +283,7 @@ struct StrandTable {
 
 /// Strand settings from the scene's `[strands]` table over [`StrandSettings::default`].
 pub fn strand_settings(scene: &Scene) -> Result<StrandSettings, RenderError> {
-    let t: StrandTable = scene.technique_settings("strands").map_err(scene_error)?;
+    let t: StrandTable = scene.technique_settings("strands")?;
     let mut s = StrandSettings::default();
     macro_rules! set {
         ($($f:ident),*) => { $( if let Some(v) = t.$f { s.$f = v; } )* };
@@ -375,7 +360,7 @@ struct VolumeTable {
 
 /// Volume settings from the scene's `[volume]` table over [`VolumeSettings::default`].
 pub fn volume_settings(scene: &Scene) -> Result<VolumeSettings, RenderError> {
-    let t: VolumeTable = scene.technique_settings("volume").map_err(scene_error)?;
+    let t: VolumeTable = scene.technique_settings("volume")?;
     let mut s = VolumeSettings::default();
     macro_rules! set {
         ($($f:ident),*) => { $( if let Some(v) = t.$f { s.$f = v; } )* };
@@ -421,7 +406,7 @@ struct HybridTable {
 /// Level-of-detail settings from the scene's `[hybrid]` table over [`HybridSettings::default`]
 /// (`lod` absent: the factor comes from the camera distance).
 pub fn hybrid_settings(scene: &Scene) -> Result<HybridSettings, RenderError> {
-    let t: HybridTable = scene.technique_settings("hybrid").map_err(scene_error)?;
+    let t: HybridTable = scene.technique_settings("hybrid")?;
     let mut s = HybridSettings {
         lod: t.lod,
         ..HybridSettings::default()
@@ -442,16 +427,10 @@ pub fn hybrid_settings(scene: &Scene) -> Result<HybridSettings, RenderError> {
 /// Read a head mesh from an OBJ, glTF (`.gltf`, `.glb`) or USD file
 /// ([`tress_hair::formats::read_mesh`]: faces triangulated, normals from the file or the faces,
 /// hostile indices rejected). Errors name the file.
-pub fn read_obj_mesh(path: &Path) -> Result<HeadMesh, RenderError> {
-    let m =
-        tress_hair::formats::read_mesh(path).map_err(|e| RenderError::Invalid(e.to_string()))?;
-    let mesh = HeadMesh {
-        positions: m.positions,
-        normals: m.normals,
-        indices: m.indices,
-    };
-    mesh.validate()
-        .map_err(|e| RenderError::Invalid(format!("{}: {e}", path.display())))?;
+pub fn read_obj_mesh(path: &Path) -> Result<TriMesh, RenderError> {
+    let mesh = tress_hair::formats::read_mesh(path)?;
+    crate::head::validate(&mesh)
+        .map_err(|e| RenderError::setting(path.display().to_string(), e))?;
     Ok(mesh)
 }
 

@@ -201,11 +201,7 @@ impl ReadbackRing {
         for slot in &mut self.slots {
             match slot.state.load(Ordering::Acquire) {
                 READY => {
-                    let bytes = slot
-                        .buffer
-                        .get_mapped_range(..)
-                        .map_err(|e| RenderError::Readback(e.to_string()))?
-                        .to_vec();
+                    let bytes = slot.buffer.get_mapped_range(..)?.to_vec();
                     slot.buffer.unmap();
                     slot.state.store(IDLE, Ordering::Release);
                     let counters = if slot.oit.is_some() {

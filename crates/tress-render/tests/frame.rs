@@ -5,9 +5,9 @@ mod common;
 
 use glam::Vec3;
 use tress_render::{
-    COLOR_FORMAT, DirectionalLight, FrameInputs, HeadGeometry, HeadMesh, Material,
-    OffscreenTargets, PASS_NAMES, RenderError, Renderer, StatsReadback, StrandSettings,
-    TargetFormats, Targets, Timings, read_texture,
+    COLOR_FORMAT, DirectionalLight, FrameInputs, HeadGeometry, Material, OffscreenTargets,
+    PASS_NAMES, RenderError, Renderer, StatsReadback, StrandSettings, TargetFormats, Targets,
+    Timings, TriMesh, read_texture,
 };
 
 const SIZE: u32 = 48;
@@ -47,7 +47,7 @@ fn head_in_front_hides_hair_behind_it() {
         .expect("hair");
     let head = HeadGeometry::new(
         &ctx,
-        &HeadMesh::uv_sphere(Vec3::new(0.0, 0.0, 2.0), 0.3, 16, 24),
+        &TriMesh::uv_sphere(Vec3::new(0.0, 0.0, 2.0), 0.3, 16, 24),
     )
     .expect("head");
     let t = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
@@ -68,7 +68,7 @@ fn head_in_front_hides_hair_behind_it() {
     // Hair in front of the head covers it.
     let head_behind = HeadGeometry::new(
         &ctx,
-        &HeadMesh::uv_sphere(Vec3::new(0.0, 0.0, -2.0), 0.3, 16, 24),
+        &TriMesh::uv_sphere(Vec3::new(0.0, 0.0, -2.0), 0.3, 16, 24),
     )
     .expect("head");
     r.render(
@@ -165,7 +165,7 @@ fn every_pass_is_timed_when_timestamps_exist() {
         .upload_hair(&ctx, &common::sphere_hair(0.5, 200, 8))
         .expect("hair");
     let head =
-        HeadGeometry::new(&ctx, &HeadMesh::uv_sphere(Vec3::ZERO, 0.45, 12, 16)).expect("head");
+        HeadGeometry::new(&ctx, &TriMesh::uv_sphere(Vec3::ZERO, 0.45, 12, 16)).expect("head");
     let t = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
     let lights = [DirectionalLight::default()];
     let stats = r

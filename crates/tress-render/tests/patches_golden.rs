@@ -12,10 +12,9 @@ use tress_hair::generate::Head;
 use tress_hair::patches::{
     AoParams, CardParams, PatchMesh, PatchParams, TextureParams, bake_ao, generate_patches,
 };
-use tress_render::patches::scene::head_tri_mesh;
 use tress_render::patches::{PatchFrameInputs, PatchRenderer, PatchSettings, RenderScheme};
 use tress_render::{
-    COLOR_FORMAT, Camera, DirectionalLight, HeadGeometry, HeadMesh, OffscreenTargets, TargetFormats,
+    COLOR_FORMAT, Camera, DirectionalLight, HeadGeometry, OffscreenTargets, TargetFormats, TriMesh,
 };
 
 const SIZE: u32 = 128;
@@ -23,18 +22,13 @@ const SIZE: u32 = 128;
 /// the margin allows other drivers' rounding).
 const MAX_MEAN_FLIP: f32 = 0.03;
 
-fn head_mesh(head: &Head) -> HeadMesh {
-    let m = head.mesh(24);
-    HeadMesh {
-        positions: m.positions,
-        normals: m.normals,
-        indices: m.indices,
-    }
+fn head_mesh(head: &Head) -> TriMesh {
+    head.mesh(24)
 }
 
 /// The generated layered patches on the default head (fewer than the defaults, for speed), AO
 /// baked against patches and head.
-fn generated() -> (PatchMesh, HeadMesh, Vec3) {
+fn generated() -> (PatchMesh, TriMesh, Vec3) {
     let head = Head::default();
     let params = PatchParams {
         head,
@@ -49,12 +43,12 @@ fn generated() -> (PatchMesh, HeadMesh, Vec3) {
         rays: 16,
         ..Default::default()
     };
-    bake_ao(&mut mesh, Some(&head_tri_mesh(&head_mesh)), &ao).expect("AO");
+    bake_ao(&mut mesh, Some(&head_mesh), &ao).expect("AO");
     (mesh, head_mesh, head.center)
 }
 
 /// Cards from the test strands on a unit sphere.
-fn cards() -> (PatchMesh, HeadMesh, Vec3) {
+fn cards() -> (PatchMesh, TriMesh, Vec3) {
     let hair = common::sphere_hair(1.0, 600, 12);
     let params = CardParams {
         cards: 60,
@@ -65,14 +59,14 @@ fn cards() -> (PatchMesh, HeadMesh, Vec3) {
     let mesh = PatchMesh::from_strands(&hair, &params).expect("cards");
     (
         mesh,
-        HeadMesh::uv_sphere(Vec3::ZERO, 0.97, 24, 32),
+        TriMesh::uv_sphere(Vec3::ZERO, 0.97, 24, 32),
         Vec3::ZERO,
     )
 }
 
 fn render(
     scheme: RenderScheme,
-    (mesh, head, center): &(PatchMesh, HeadMesh, Vec3),
+    (mesh, head, center): &(PatchMesh, TriMesh, Vec3),
     eye: Vec3,
     target: Vec3,
 ) -> image::RgbImage {

@@ -10,8 +10,7 @@ use tress_hair::patches::{HairTextures, PatchMesh, Texture};
 use tress_render::gpu::{linear_to_srgb, srgb_to_linear};
 use tress_render::patches::{PatchFrameInputs, PatchRenderer, PatchSettings, RenderScheme};
 use tress_render::{
-    COLOR_FORMAT, HeadGeometry, HeadMesh, LinearImage, OffscreenTargets, TargetFormats,
-    read_texture,
+    COLOR_FORMAT, HeadGeometry, LinearImage, OffscreenTargets, TargetFormats, TriMesh, read_texture,
 };
 
 const SIZE: u32 = 32;
@@ -98,7 +97,7 @@ fn render(
     scheme: RenderScheme,
     mesh: &PatchMesh,
     sort_center: Vec3,
-    head: Option<&HeadMesh>,
+    head: Option<&TriMesh>,
 ) -> Frame {
     let settings = PatchSettings {
         scheme,
@@ -112,7 +111,7 @@ fn render_with(
     settings: PatchSettings,
     mesh: &PatchMesh,
     sort_center: Vec3,
-    head: Option<&HeadMesh>,
+    head: Option<&TriMesh>,
 ) -> Frame {
     let ctx = common::gpu().expect("checked by the caller");
     let mut r = PatchRenderer::with_textures(&ctx, TargetFormats::default(), settings, textures())
@@ -276,7 +275,7 @@ fn the_head_is_drawn_first_and_hides_the_hair_behind_it() {
     if common::gpu().is_none() {
         return;
     }
-    let head = HeadMesh::uv_sphere(Vec3::new(0.0, 0.0, 1.0), 0.5, 16, 24);
+    let head = TriMesh::uv_sphere(Vec3::new(0.0, 0.0, 1.0), 0.5, 16, 24);
     let m = mesh(&[(0.0, true, 1.0)]);
     for scheme in [RenderScheme::FourPass, RenderScheme::ThreePass] {
         let f = render(scheme, &m, Vec3::new(0.0, 0.0, -5.0), Some(&head));

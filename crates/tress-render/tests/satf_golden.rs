@@ -12,7 +12,7 @@ use glam::Vec3;
 use tress_hair::generate::Head;
 use tress_render::satf::{Reflectance, SatfSettings, StageTiming};
 use tress_render::{
-    COLOR_FORMAT, Camera, DirectionalLight, HeadGeometry, HeadMesh, OffscreenTargets, SatfDatabase,
+    COLOR_FORMAT, Camera, DirectionalLight, HeadGeometry, OffscreenTargets, SatfDatabase,
     SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, TargetFormats,
 };
 use tress_satf::database::{BakeSettings, Database, bake};
@@ -81,16 +81,7 @@ fn render(settings: SatfSettings, volume: &HairVolume) -> (image::RgbImage, Satf
     let db = SatfDatabase::new(&ctx, database()).expect("database");
     let geometry = SatfGeometry::new(&ctx, volume, &db, &settings).expect("geometry");
     let head = Head::default();
-    let mesh = head.mesh(32);
-    let head = HeadGeometry::new(
-        &ctx,
-        &HeadMesh {
-            positions: mesh.positions,
-            normals: mesh.normals,
-            indices: mesh.indices,
-        },
-    )
-    .expect("head");
+    let head = HeadGeometry::new(&ctx, &head.mesh(32)).expect("head");
     let t = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
     let camera = Camera::look_at(
         Vec3::new(38.0, 8.0, 52.0),

@@ -53,7 +53,7 @@ fn session_on(ctx: &GpuContext, path: &std::path::Path) -> Session {
                 },
                 ..Default::default()
             };
-            bake(&s, |_, _| {}).map_err(|e| e.to_string())
+            bake(&s, |_, _| {}).map_err(Into::into)
         })),
         ..SessionOptions::default()
     };

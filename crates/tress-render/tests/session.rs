@@ -26,7 +26,7 @@ fn session(ctx: &GpuContext) -> Session {
                 },
                 ..Default::default()
             };
-            bake(&s, |_, _| {}).map_err(|e| e.to_string())
+            bake(&s, |_, _| {}).map_err(Into::into)
         })),
         ..SessionOptions::default()
     };

@@ -8,8 +8,8 @@ mod common;
 use glam::Vec3;
 use tress_render::{
     COLOR_FORMAT, Camera, DirectionalLight, FrameInputs, FrameStats, GpuContext, HeadGeometry,
-    HeadMesh, HybridSettings, LinearImage, Material, OffscreenTargets, Renderer, ShadowMode,
-    StrandGeometry, StrandSettings, TargetFormats, Technique, Timings, Transition, VolumeSettings,
+    HybridSettings, LinearImage, Material, OffscreenTargets, Renderer, ShadowMode, StrandGeometry,
+    StrandSettings, TargetFormats, Technique, Timings, Transition, TriMesh, VolumeSettings,
     read_texture,
 };
 
@@ -179,7 +179,7 @@ fn raymarcher_draws_the_hair_and_stops_at_the_head() {
         .expect("settings");
     let cam = camera(5.0);
     let ball = cam.eye() * 0.55 + Vec3::new(0.0, -0.3, 0.0) * 0.45;
-    s.head = HeadGeometry::new(&s.ctx, &HeadMesh::uv_sphere(ball, 0.35, 16, 24)).expect("ball");
+    s.head = HeadGeometry::new(&s.ctx, &TriMesh::uv_sphere(ball, 0.35, 16, 24)).expect("ball");
     let (both, _) = s.render(cam, true);
     save("volume_ball", &both);
     let lights = [key_light()];

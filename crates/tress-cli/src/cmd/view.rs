@@ -43,7 +43,7 @@ fn satf_loader() -> DatabaseLoader {
     Box::new(|s: &SatfScene| {
         database_for_render(s.database.as_deref(), &s.bake, s.bake_explicit)
             .map(|(db, _)| db)
-            .map_err(|e| format!("{e:#}"))
+            .map_err(Into::into)
     })
 }
 

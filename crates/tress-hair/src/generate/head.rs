@@ -219,8 +219,9 @@ fn spherical(theta: f32, phi: f32) -> Vec3 {
     Vec3::new(st * sp, ct, st * cp)
 }
 
-/// An indexed triangle mesh with per-vertex normals.
-#[derive(Clone, Debug, PartialEq)]
+/// An indexed triangle mesh with per-vertex normals: the generated head, an OBJ or glTF head,
+/// and the renderer's head pass all use this one type.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct TriMesh {
     /// Vertex positions.
     pub positions: Vec<Vec3>,
@@ -231,6 +232,43 @@ pub struct TriMesh {
 }
 
 impl TriMesh {
+    /// A UV sphere (a stand-in head for tests and examples).
+    pub fn uv_sphere(center: Vec3, radius: f32, rings: u32, segments: u32) -> Self {
+        let (rings, segments) = (rings.max(2), segments.max(3));
+        let mut mesh = TriMesh::default();
+        for r in 0..=rings {
+            let theta = std::f32::consts::PI * r as f32 / rings as f32;
+            for s in 0..=segments {
+                let phi = std::f32::consts::TAU * s as f32 / segments as f32;
+                let n = Vec3::new(
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                    theta.sin() * phi.cos(),
+                );
+                mesh.positions.push(center + n * radius);
+                mesh.normals.push(n);
+            }
+        }
+        let row = segments + 1;
+        for r in 0..rings {
+            for s in 0..segments {
+                let a = r * row + s;
+                let b = a + row;
+                mesh.indices
+                    .extend_from_slice(&[a, b, a + 1, a + 1, b, b + 1]);
+            }
+        }
+        mesh
+    }
+
+    /// Centre of the bounding box and the radius around it (zero for no points).
+    pub fn bounding_sphere(&self) -> (Vec3, f32) {
+        let Some(b) = crate::Aabb::from_points(&self.positions) else {
+            return (Vec3::ZERO, 0.0);
+        };
+        (b.center(), b.size().length() * 0.5)
+    }
+
     /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3

@@ -107,12 +107,8 @@ pub fn read_buffer(
     });
     ctx.device.poll(wgpu::PollType::wait_indefinitely())?;
     rx.recv()
-        .map_err(|_| RenderError::Readback("map callback never ran".into()))?
-        .map_err(|e| RenderError::Readback(e.to_string()))?;
-    let bytes = buffer
-        .get_mapped_range(range)
-        .map_err(|e| RenderError::Readback(e.to_string()))?
-        .to_vec();
+        .map_err(|_| RenderError::Readback("map callback never ran".into()))??;
+    let bytes = buffer.get_mapped_range(range)?.to_vec();
     buffer.unmap();
     Ok(bytes)
 }

@@ -1,6 +1,6 @@
-//! The opaque head mesh: plain input ([`HeadMesh`]), its GPU upload ([`HeadGeometry`]) and the pass
-//! that draws it first with depth writes ([`HeadPass`]; every technique's head shares its pipeline,
-//! `HeadPipeline`).
+//! The opaque head mesh: plain input ([`TriMesh`], checked by [`validate`]), its GPU upload
+//! ([`HeadGeometry`]) and the pass that draws it first with depth writes ([`HeadPass`]; every
+//! technique's head shares its pipeline, `HeadPipeline`).
 
 mod head_pass;
 
@@ -10,100 +10,48 @@ use wgpu::util::DeviceExt;
 pub use head_pass::HeadPass;
 pub(crate) use head_pass::HeadPipeline;
 
+pub use tress_hair::generate::TriMesh;
+
 use crate::gpu::types::HeadVertex;
 use crate::{GpuContext, RenderError};
 
-/// A triangle mesh: positions, per-vertex normals and triangle indices.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct HeadMesh {
-    /// Vertex positions (world space).
-    pub positions: Vec<Vec3>,
-    /// Per-vertex normals (need not be unit length; zero is allowed and lit as facing the eye).
-    pub normals: Vec<Vec3>,
-    /// Triangle list indices into `positions`.
-    pub indices: Vec<u32>,
-}
-
-impl HeadMesh {
-    /// Check sizes, finiteness and index bounds.
-    pub fn validate(&self) -> Result<(), RenderError> {
-        if self.positions.len() != self.normals.len() {
-            return Err(RenderError::Invalid(format!(
-                "head mesh has {} positions but {} normals",
-                self.positions.len(),
-                self.normals.len()
-            )));
-        }
-        if self.indices.is_empty() || !self.indices.len().is_multiple_of(3) {
-            return Err(RenderError::Invalid(format!(
-                "head mesh index count {} is not a positive multiple of 3",
-                self.indices.len()
-            )));
-        }
-        if let Some(i) = self
-            .indices
-            .iter()
-            .position(|&i| i as usize >= self.positions.len())
-        {
-            return Err(RenderError::Invalid(format!(
-                "head mesh index {i} ({}) is out of range",
-                self.indices[i]
-            )));
-        }
-        if self
-            .positions
-            .iter()
-            .chain(&self.normals)
-            .any(|p| !p.is_finite())
-        {
-            return Err(RenderError::Invalid(
-                "head mesh has non-finite positions or normals".into(),
-            ));
-        }
-        Ok(())
+/// Check a head mesh's sizes, finiteness and index bounds (normals need not be unit length;
+/// zero is allowed and lit as facing the eye).
+pub fn validate(mesh: &TriMesh) -> Result<(), RenderError> {
+    if mesh.positions.len() != mesh.normals.len() {
+        return Err(RenderError::Invalid(format!(
+            "head mesh has {} positions but {} normals",
+            mesh.positions.len(),
+            mesh.normals.len()
+        )));
     }
-
-    /// A UV sphere (a stand-in head for tests and examples).
-    pub fn uv_sphere(center: Vec3, radius: f32, rings: u32, segments: u32) -> Self {
-        let (rings, segments) = (rings.max(2), segments.max(3));
-        let mut mesh = HeadMesh::default();
-        for r in 0..=rings {
-            let theta = std::f32::consts::PI * r as f32 / rings as f32;
-            for s in 0..=segments {
-                let phi = std::f32::consts::TAU * s as f32 / segments as f32;
-                let n = Vec3::new(
-                    theta.sin() * phi.sin(),
-                    theta.cos(),
-                    theta.sin() * phi.cos(),
-                );
-                mesh.positions.push(center + n * radius);
-                mesh.normals.push(n);
-            }
-        }
-        let row = segments + 1;
-        for r in 0..rings {
-            for s in 0..segments {
-                let a = r * row + s;
-                let b = a + row;
-                mesh.indices
-                    .extend_from_slice(&[a, b, a + 1, a + 1, b, b + 1]);
-            }
-        }
-        mesh
+    if mesh.indices.is_empty() || !mesh.indices.len().is_multiple_of(3) {
+        return Err(RenderError::Invalid(format!(
+            "head mesh index count {} is not a positive multiple of 3",
+            mesh.indices.len()
+        )));
     }
-
-    /// Centre and radius of a sphere around all vertices.
-    pub fn bounding_sphere(&self) -> (Vec3, f32) {
-        bounding_sphere(&self.positions)
+    if let Some(i) = mesh
+        .indices
+        .iter()
+        .position(|&i| i as usize >= mesh.positions.len())
+    {
+        return Err(RenderError::Invalid(format!(
+            "head mesh index {i} ({}) is out of range",
+            mesh.indices[i]
+        )));
     }
-}
-
-/// Centre of the bounding box and the radius around it (zero for no points).
-pub(crate) fn bounding_sphere(points: &[Vec3]) -> (Vec3, f32) {
-    let Some(b) = tress_hair::Aabb::from_points(points) else {
-        return (Vec3::ZERO, 0.0);
-    };
-    (b.center(), b.size().length() * 0.5)
+    if mesh
+        .positions
+        .iter()
+        .chain(&mesh.normals)
+        .any(|p| !p.is_finite())
+    {
+        return Err(RenderError::Invalid(
+            "head mesh has non-finite positions or normals".into(),
+        ));
+    }
+    Ok(())
 }
 
 /// A head mesh uploaded to the GPU.
@@ -131,8 +79,8 @@ impl HeadGeometry {
     }
 
     /// Validate and upload a mesh.
-    pub fn new(ctx: &GpuContext, mesh: &HeadMesh) -> Result<Self, RenderError> {
-        mesh.validate()?;
+    pub fn new(ctx: &GpuContext, mesh: &TriMesh) -> Result<Self, RenderError> {
+        validate(mesh)?;
         let verts: Vec<HeadVertex> = mesh
             .positions
             .iter()
@@ -184,8 +132,8 @@ mod tests {
 
     #[test]
     fn sphere_is_valid_and_bounded() {
-        let m = HeadMesh::uv_sphere(Vec3::new(1.0, 0.0, 0.0), 2.0, 8, 12);
-        m.validate().expect("valid");
+        let m = TriMesh::uv_sphere(Vec3::new(1.0, 0.0, 0.0), 2.0, 8, 12);
+        validate(&m).expect("valid");
         let (c, r) = m.bounding_sphere();
         assert!((c - Vec3::new(1.0, 0.0, 0.0)).length() < 1e-4);
         assert!(r >= 2.0 && r < 2.0 * 3f32.sqrt() + 1e-3);
@@ -193,23 +141,23 @@ mod tests {
 
     #[test]
     fn bad_meshes_are_rejected() {
-        let mut m = HeadMesh::uv_sphere(Vec3::ZERO, 1.0, 4, 4);
+        let mut m = TriMesh::uv_sphere(Vec3::ZERO, 1.0, 4, 4);
         m.indices.push(10_000);
         m.indices.extend_from_slice(&[0, 0]);
         assert!(
-            m.validate()
+            validate(&m)
                 .unwrap_err()
                 .to_string()
                 .contains("out of range")
         );
-        let mut m = HeadMesh::uv_sphere(Vec3::ZERO, 1.0, 4, 4);
+        let mut m = TriMesh::uv_sphere(Vec3::ZERO, 1.0, 4, 4);
         m.normals.pop();
-        assert!(m.validate().is_err());
-        let mut m = HeadMesh::uv_sphere(Vec3::ZERO, 1.0, 4, 4);
+        assert!(validate(&m).is_err());
+        let mut m = TriMesh::uv_sphere(Vec3::ZERO, 1.0, 4, 4);
         m.indices.pop();
-        assert!(m.validate().is_err());
-        let mut m = HeadMesh::uv_sphere(Vec3::ZERO, 1.0, 4, 4);
+        assert!(validate(&m).is_err());
+        let mut m = TriMesh::uv_sphere(Vec3::ZERO, 1.0, 4, 4);
         m.positions[0] = Vec3::NAN;
-        assert!(m.validate().is_err());
+        assert!(validate(&m).is_err());
     }
 }

@@ -194,7 +194,7 @@ impl PatchSettings {
         }
         self.textures
             .validate()
-            .map_err(|e| RenderError::Invalid(format!("patches.textures: {e}")))
+            .map_err(|e| RenderError::setting("patches.textures", e))
     }
 
     /// The GPU uniform.

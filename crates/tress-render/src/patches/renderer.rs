@@ -89,7 +89,7 @@ pub struct PatchRenderer {
 
 fn generate_textures(settings: &PatchSettings) -> Result<HairTextures, RenderError> {
     HairTextures::generate(&settings.textures)
-        .map_err(|e| RenderError::Invalid(format!("patches.textures: {e}")))
+        .map_err(|e| RenderError::setting("patches.textures", e))
 }
 
 impl PatchRenderer {

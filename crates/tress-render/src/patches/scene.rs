@@ -47,15 +47,15 @@ use std::time::Instant;
 use glam::Vec3;
 use serde::Deserialize;
 use tress_hair::HairAsset;
-use tress_hair::generate::{Head, TriMesh};
+use tress_hair::generate::Head;
 use tress_hair::patches::{
     AoParams, AoSides, CardParams, HairTextures, PatchMesh, PatchParams, bake_ao, generate_patches,
 };
 use tress_scene::{HeadSource, Scene};
 
 use super::{PatchSettings, RenderScheme, TextureSlot, load_texture_png};
+use crate::RenderError;
 use crate::scene_setup::PreparedScene;
-use crate::{HeadMesh, RenderError};
 
 /// `[patches.generator]`.
 #[derive(Deserialize, Default, Debug)]
@@ -144,9 +144,7 @@ struct PatchTable {
 }
 
 fn table(scene: &Scene) -> Result<PatchTable, RenderError> {
-    scene
-        .technique_settings("patches")
-        .map_err(|e| RenderError::Invalid(e.to_string()))
+    Ok(scene.technique_settings("patches")?)
 }
 
 macro_rules! set {
@@ -304,7 +302,7 @@ fn ao_params(t: &AoTable) -> Result<AoParams, RenderError> {
         p.sides = parse_sides(s)?;
     }
     p.validate()
-        .map_err(|e| RenderError::Invalid(format!("patches.ao: {e}")))?;
+        .map_err(|e| RenderError::setting("patches.ao", e))?;
     Ok(p)
 }
 
@@ -320,19 +318,6 @@ pub fn parse_sides(s: &str) -> Result<AoSides, RenderError> {
     }
 }
 
-/// The head mesh as `tress_hair`'s triangle mesh (for the AO bake).
-pub fn head_tri_mesh(head: &HeadMesh) -> TriMesh {
-    TriMesh {
-        positions: head.positions.clone(),
-        normals: head.normals.clone(),
-        indices: head.indices.clone(),
-    }
-}
-
-fn hair_error(e: tress_hair::HairError) -> RenderError {
-    RenderError::Invalid(e.to_string())
-}
-
 /// Build the scene's patch mesh (generate, read or convert; bake AO) and textures. `prepared` is
 /// the scene loaded with [`PreparedScene::load`] (its hair and head are used, not reloaded).
 pub fn load_patches(scene: &Scene, prepared: &PreparedScene) -> Result<PatchScene, RenderError> {
@@ -344,13 +329,13 @@ pub fn load_patches(scene: &Scene, prepared: &PreparedScene) -> Result<PatchScen
         _ => prepared.head.as_ref().map(|h| h.bounding_sphere().0),
     };
     let mut mesh = match &source {
-        PatchSource::Obj(path) => PatchMesh::read_obj(path).map_err(hair_error)?,
+        PatchSource::Obj(path) => PatchMesh::read_obj(path)?,
         PatchSource::Generated => {
             let head = match scene.head_source() {
                 HeadSource::Generated(h, _) => h,
                 _ => Head::default(),
             };
-            generate_patches(&generator_params(&t.generator, head)).map_err(hair_error)?
+            generate_patches(&generator_params(&t.generator, head))?
         }
         PatchSource::Strands => {
             let hair: &HairAsset = prepared.hair.as_ref().ok_or_else(|| {
@@ -358,21 +343,21 @@ pub fn load_patches(scene: &Scene, prepared: &PreparedScene) -> Result<PatchScen
                     "patches.source = \"strands\" but the scene has no hair".into(),
                 )
             })?;
-            PatchMesh::from_strands(hair, &card_params(&t.cards)).map_err(hair_error)?
+            PatchMesh::from_strands(hair, &card_params(&t.cards))?
         }
     };
     let bake = t.ao.bake.unwrap_or(!matches!(source, PatchSource::Obj(_)));
     let ao = ao_params(&t.ao)?;
     let ao_bake_seconds = if bake {
-        let head = prepared.head.as_ref().map(head_tri_mesh);
+        let head = prepared.head.as_ref();
         let start = Instant::now();
-        bake_ao(&mut mesh, head.as_ref(), &ao).map_err(hair_error)?;
+        bake_ao(&mut mesh, head, &ao)?;
         Some(start.elapsed().as_secs_f64())
     } else {
         None
     };
     let mut textures = HairTextures::generate(&settings.textures)
-        .map_err(|e| RenderError::Invalid(format!("patches.textures: {e}")))?;
+        .map_err(|e| RenderError::setting("patches.textures", e))?;
     let mut textures_from_files = false;
     let files: [(TextureSlot, &Option<PathBuf>); 4] = [
         (TextureSlot::Base, &t.textures.base_png),

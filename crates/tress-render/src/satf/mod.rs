@@ -255,7 +255,7 @@ impl SatfSettings {
         let bad = |name: &str, why: &str| Err(RenderError::Invalid(format!("satf.{name} {why}")));
         self.sampling
             .validate()
-            .map_err(|e| RenderError::Invalid(format!("satf sampling: {e}")))?;
+            .map_err(|e| RenderError::setting("satf sampling", e))?;
         for (name, n, max) in [
             ("map_rows", self.map_rows, 64),
             ("mesh_t", self.mesh_t, 64),

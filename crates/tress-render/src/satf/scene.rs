@@ -180,13 +180,14 @@ pub struct SatfScene {
     pub clusters: ClusterSource,
 }
 
-fn invalid(e: impl std::fmt::Display) -> RenderError {
-    RenderError::Invalid(e.to_string())
+/// An invalid-input error with its message (errors from other crates convert with `?`).
+fn invalid(message: impl Into<String>) -> RenderError {
+    RenderError::Invalid(message.into())
 }
 
 /// The `[satf]` table over the defaults (see the module docs). Errors name the key.
 pub fn satf_settings(scene: &Scene) -> Result<SatfScene, RenderError> {
-    let t: SatfTable = scene.technique_settings("satf").map_err(invalid)?;
+    let t: SatfTable = scene.technique_settings("satf")?;
     let mut s = SatfSettings::default();
     if let Some(m) = scene.hair.first().map(|h| &h.material) {
         s.lighting.f_dif = m.base_color;
@@ -251,7 +252,7 @@ pub fn satf_settings(scene: &Scene) -> Result<SatfScene, RenderError> {
     }
     set!(b => bake.hrir, view_angles, light_angles, pixels);
     bake.validate()
-        .map_err(|e| invalid(format!("satf.bake: {e}")))?;
+        .map_err(|e| RenderError::setting("satf.bake", e))?;
     let bake_explicit = b.samples.is_some()
         || b.angles.is_some()
         || b.view_angles.is_some()
@@ -278,7 +279,7 @@ pub fn satf_settings(scene: &Scene) -> Result<SatfScene, RenderError> {
         fit.min_radius = Some(r);
     }
     fit.validate()
-        .map_err(|e| invalid(format!("satf.fit: {e}")))?;
+        .map_err(|e| RenderError::setting("satf.fit", e))?;
     let mut style = ClusterStyle::default();
     let g = &t.generate;
     set!(
@@ -297,7 +298,7 @@ pub fn satf_settings(scene: &Scene) -> Result<SatfScene, RenderError> {
     );
     style
         .validate()
-        .map_err(|e| invalid(format!("satf.generate: {e}")))?;
+        .map_err(|e| RenderError::setting("satf.generate", e))?;
     let clusters = match t.clusters.as_deref().unwrap_or("auto") {
         "fit" => ClusterSource::Fit(fit),
         "generate" => ClusterSource::Generate(style),
@@ -330,7 +331,7 @@ pub fn load_clusters(
             let hair = hair.ok_or_else(|| {
                 invalid("satf.clusters = \"fit\" needs [[hair]] in the scene (or use \"generate\")")
             })?;
-            fit_clusters(hair, &fit).map_err(|e| invalid(format!("satf: fitting clusters: {e}")))
+            fit_clusters(hair, &fit).map_err(|e| RenderError::setting("satf: fitting clusters", e))
         }
         ClusterSource::Generate(style) => {
             let head = match scene.head_source() {
@@ -338,7 +339,7 @@ pub fn load_clusters(
                 _ => Head::default(),
             };
             generate_clusters(&head, &style)
-                .map_err(|e| invalid(format!("satf: generating clusters: {e}")))
+                .map_err(|e| RenderError::setting("satf: generating clusters", e))
         }
     }
 }

@@ -12,8 +12,9 @@ use crate::patches::scene::is_obj;
 /// of the paper's strand count so that a CPU Vulkan renders it in seconds.
 pub const DEMO_SCENE: &str = include_str!("../../../../scenes/demo.toml");
 
-fn invalid(e: impl std::fmt::Display) -> RenderError {
-    RenderError::Invalid(e.to_string())
+/// An invalid-input error with its message (errors from other crates convert with `?`).
+fn invalid(message: impl Into<String>) -> RenderError {
+    RenderError::Invalid(message.into())
 }
 
 fn is_scene(p: &Path) -> bool {
@@ -27,15 +28,14 @@ fn is_scene(p: &Path) -> bool {
 /// default lights and no head.
 pub fn scene_from_inputs(inputs: &[PathBuf]) -> Result<(Scene, bool), RenderError> {
     match inputs {
-        [] => Ok((Scene::from_str(DEMO_SCENE, ".").map_err(invalid)?, false)),
-        [one] if is_scene(one) => Ok((Scene::from_path(one).map_err(invalid)?, false)),
+        [] => Ok((Scene::from_str(DEMO_SCENE, ".")?, false)),
+        [one] if is_scene(one) => Ok((Scene::from_path(one)?, false)),
         many if many.iter().any(|p| is_scene(p)) => Err(invalid(
             "give either one scene file or hair files, not both",
         )),
         [one] if is_obj(one) => {
             let mut scene =
-                Scene::from_str("technique = \"patches\"\n[head]\ngenerated = false\n", ".")
-                    .map_err(invalid)?;
+                Scene::from_str("technique = \"patches\"\n[head]\ngenerated = false\n", ".")?;
             // A TOML basic string: backslashes and quotes escaped.
             let path = one
                 .to_str()
@@ -43,14 +43,12 @@ pub fn scene_from_inputs(inputs: &[PathBuf]) -> Result<(Scene, bool), RenderErro
                 .ok_or_else(|| invalid(format!("{}: unusable file name", one.display())))?
                 .replace('\\', "\\\\")
                 .replace('"', "\\\"");
-            scene
-                .apply_override(&format!("patches.obj=\"{path}\""))
-                .map_err(invalid)?;
+            scene.apply_override(&format!("patches.obj=\"{path}\""))?;
             Ok((scene, true))
         }
         many if many.iter().any(|p| is_obj(p)) => Err(invalid("give one hair-card OBJ file alone")),
         files => {
-            let mut scene = Scene::from_str("[head]\ngenerated = false\n", ".").map_err(invalid)?;
+            let mut scene = Scene::from_str("[head]\ngenerated = false\n", ".")?;
             scene.hair = vec![HairSpec {
                 files: files.to_vec(),
                 ..HairSpec::default()

@@ -54,7 +54,9 @@ pub const AMBIENT: f32 = 0.08;
 
 /// Finds the SATF database for a scene's `[satf]` settings (the CLI's loads the file or its
 /// cache, baking it on first use). The error is one line.
-pub type DatabaseLoader = Box<dyn FnMut(&SatfScene) -> Result<tress_satf::Database, String>>;
+pub type DatabaseLoader = Box<
+    dyn FnMut(&SatfScene) -> Result<tress_satf::Database, Box<dyn std::error::Error + Send + Sync>>,
+>;
 
 /// How a [`Session`] is built.
 #[derive(Default)]
@@ -155,8 +157,9 @@ impl std::fmt::Debug for Session {
     }
 }
 
-fn invalid(e: impl std::fmt::Display) -> RenderError {
-    RenderError::Invalid(e.to_string())
+/// An invalid-input error with its message (errors from other crates convert with `?`).
+fn invalid(message: impl Into<String>) -> RenderError {
+    RenderError::Invalid(message.into())
 }
 
 /// The name in [`TECHNIQUES`] of a technique, or an error listing them.
@@ -180,13 +183,13 @@ fn load_scene(
     auto_frame: bool,
     overrides: &[String],
 ) -> Result<(Scene, PreparedScene), RenderError> {
-    scene.apply_overrides(overrides).map_err(invalid)?;
+    scene.apply_overrides(overrides)?;
     technique_name(&scene.technique)?;
     let mut prepared = PreparedScene::load(&scene)?;
     if let (true, Some(h)) = (auto_frame, &prepared.hair) {
         let b = h.bounds();
         frame_bounds(&mut scene, b.min, b.max);
-        scene.apply_overrides(overrides).map_err(invalid)?;
+        scene.apply_overrides(overrides)?;
         prepared = prepared.reload_settings(&scene)?;
     }
     Ok((scene, prepared))
@@ -227,10 +230,7 @@ impl Session {
             && let Some(b) = p.scene.mesh.bounds()
         {
             frame_bounds(&mut session.scene, b.min, b.max);
-            session
-                .scene
-                .apply_overrides(&options.overrides)
-                .map_err(invalid)?;
+            session.scene.apply_overrides(&options.overrides)?;
         }
         Ok(session)
     }
@@ -285,7 +285,7 @@ impl Session {
     /// nothing changes.
     pub fn set(&mut self, ctx: &GpuContext, key_value: &str) -> Result<(), RenderError> {
         let mut scene = self.scene.clone();
-        scene.apply_override(key_value).map_err(invalid)?;
+        scene.apply_override(key_value)?;
         let key = key_value.split('=').next().unwrap_or("").trim();
         let root = key.split('.').next().unwrap_or("");
         match root {
@@ -397,7 +397,7 @@ impl Session {
                 let loader = self.loader.as_mut().ok_or_else(|| {
                     invalid("the satf technique needs an HRIR database (none was given)")
                 })?;
-                let db = loader(&settings).map_err(RenderError::Invalid)?;
+                let db = loader(&settings).map_err(RenderError::Database)?;
                 let volume = load_clusters(&self.scene, &settings, self.prepared.hair.as_ref())?;
                 let database = SatfDatabase::new(ctx, &db)?;
                 let geometry = SatfGeometry::new(ctx, &volume, &database, &settings.settings)?;

@@ -12,7 +12,7 @@ use glam::{Mat4, Vec3};
 use tress_hair::HairAsset;
 use tress_render::{
     COLOR_FORMAT, Camera, DirectionalLight, FrameInputs, FrameStats, GpuContext, HeadGeometry,
-    HeadMesh, Material, OffscreenTargets, Renderer, StrandSettings, read_texture,
+    Material, OffscreenTargets, Renderer, StrandSettings, TriMesh, read_texture,
 };
 
 /// The GPU context shared by a test binary, or `None` when `TRESS_SKIP_GPU_TESTS=1` and there is
@@ -104,7 +104,7 @@ pub fn sphere_strand_settings() -> StrandSettings {
 
 /// The head of the sphere scenes: a sphere of radius 0.97 under [`sphere_hair`]`(1.0, …)`.
 pub fn sphere_head(ctx: &GpuContext) -> HeadGeometry {
-    HeadGeometry::new(ctx, &HeadMesh::uv_sphere(Vec3::ZERO, 0.97, 24, 32)).expect("head")
+    HeadGeometry::new(ctx, &TriMesh::uv_sphere(Vec3::ZERO, 0.97, 24, 32)).expect("head")
 }
 
 /// What the golden scenes clear the color target to.

@@ -137,7 +137,7 @@ pub(crate) fn open_session(
             satf_database: Some(Box::new(|s| {
                 database_for_render(s.database.as_deref(), &s.bake, s.bake_explicit)
                     .map(|(db, _)| db)
-                    .map_err(|e| format!("{e:#}"))
+                    .map_err(Into::into)
             })),
             ..SessionOptions::default()
         };
