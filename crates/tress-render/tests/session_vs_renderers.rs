@@ -1,18 +1,22 @@
 //! `Session` adds nothing to a frame: for the built-in demo scene (a thinned ponytail on the
 //! generated head), the frame a `Session` draws equals, bit for bit, the frame the technique's
 //! own renderer draws from the same scene's settings (`Renderer` for strands, volume and hybrid;
-//! `PatchRenderer` for patches). A safety net for reworking the frame driver.
+//! `PatchRenderer` for patches; `SatfRenderer` for satf, with a small baked database). A safety
+//! net for reworking the frame driver.
 
 mod common;
 
 use glam::Vec3;
 use tress_render::patches::scene::{load_patches, patch_settings};
+use tress_render::satf::scene::{load_clusters, satf_settings};
 use tress_render::session::{AMBIENT, Session, SessionOptions, scene_from_inputs};
 use tress_render::{
     COLOR_FORMAT, FrameInputs, GpuContext, HeadGeometry, LinearImage, OffscreenTargets,
-    PatchFrameInputs, PatchRenderer, PreparedScene, Renderer, TargetFormats, Technique,
-    read_texture,
+    PatchFrameInputs, PatchRenderer, PreparedScene, Renderer, SatfDatabase, SatfFrameInputs,
+    SatfGeometry, SatfRenderer, TargetFormats, Technique, read_texture,
 };
+use tress_satf::database::{BakeSettings, bake};
+use tress_satf::hrir::HrirSettings;
 
 const SIZE: [u32; 2] = [96, 54];
 
@@ -22,14 +26,27 @@ fn scene() -> tress_scene::Scene {
     scene
 }
 
+/// A small HRIR database (deterministic: the bake is seeded).
+fn database() -> tress_satf::Database {
+    let s = BakeSettings {
+        samples: 48,
+        hrir: HrirSettings {
+            pixels: 8,
+            view_angles: 8,
+            light_angles: 8,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    bake(&s, |_, _| {}).unwrap()
+}
+
 fn session_frame(ctx: &GpuContext, technique: &str) -> LinearImage {
-    let mut s = Session::new(
-        ctx,
-        TargetFormats::default(),
-        scene(),
-        SessionOptions::default(),
-    )
-    .unwrap();
+    let options = SessionOptions {
+        satf_database: Some(Box::new(|_| Ok(database()))),
+        ..SessionOptions::default()
+    };
+    let mut s = Session::new(ctx, TargetFormats::default(), scene(), options).unwrap();
     s.set_technique(ctx, technique).unwrap();
     let targets = OffscreenTargets::new(ctx, SIZE, COLOR_FORMAT).unwrap();
     let camera = s.camera(SIZE);
@@ -118,4 +135,33 @@ fn session_frames_equal_the_renderers_frames() {
         session_frame(&ctx, "patches").pixels,
         "patches"
     );
+
+    let settings = satf_settings(&scene).unwrap();
+    let volume = load_clusters(&scene, &settings, prepared.hair.as_ref()).unwrap();
+    let db = SatfDatabase::new(&ctx, &database()).unwrap();
+    let geometry = SatfGeometry::new(&ctx, &volume, &db, &settings.settings).unwrap();
+    let mut renderer =
+        SatfRenderer::new(&ctx, TargetFormats::default(), settings.settings).unwrap();
+    renderer
+        .render(
+            &ctx,
+            &targets.targets(),
+            &SatfFrameInputs {
+                camera,
+                lights: &prepared.lights,
+                ambient: Vec3::splat(AMBIENT),
+                head_color: prepared.material.head_color,
+                clusters: Some(&geometry),
+                database: &db,
+                head: head.as_ref(),
+                clear: prepared.clear_color(),
+            },
+        )
+        .unwrap();
+    let direct = read_texture(&ctx, &targets.color).unwrap();
+    assert!(
+        direct.pixels.iter().any(|p| (p[0] - bg.x).abs() > 0.02),
+        "satf: the frame must show hair"
+    );
+    assert_eq!(direct.pixels, session_frame(&ctx, "satf").pixels, "satf");
 }
