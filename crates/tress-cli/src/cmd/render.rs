@@ -411,7 +411,7 @@ pub(crate) fn draw_frame(
 }
 
 /// Constant ambient light added to every technique's shading (linear RGB per channel).
-pub(crate) const AMBIENT: f32 = 0.08;
+pub(crate) use tress_render::session::AMBIENT;
 
 /// The inputs of a strand, volume or hybrid frame of the prepared scene seen by `camera`.
 pub(crate) fn frame_inputs<'a>(

@@ -1,37 +1,21 @@
 // Head pass: the opaque head mesh, drawn first with depth writes, Lambert-lit with ADSM shadows
 // from the hair (Jansson 2019 §3.4: the shadow map holds hair and head depth). Owner: `HeadPass`.
 
-#include "common/camera.wgsl"
+#include "common/head.wgsl"
 #include "common/lighting.wgsl"
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> params: StrandParams;
 
-struct HeadVarying {
-    @builtin(position) position: vec4<f32>,
-    @location(0) world: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-}
-
 @vertex
 fn vs_main(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>) -> HeadVarying {
-    var out: HeadVarying;
-    out.position = camera_clip(camera, position);
-    out.world = position;
-    out.normal = normal;
-    return out;
+    return head_varying(camera, position, normal);
 }
 
 @fragment
 fn fs_main(in: HeadVarying) -> @location(0) vec4<f32> {
     let v = camera_to_eye(camera, in.world);
-    var n = in.normal;
-    let len = length(n);
-    n = select(v, n / len, len > 1e-20);
-    // Two-sided: a back face is lit like the front it belongs to.
-    if dot(n, v) < 0.0 {
-        n = -n;
-    }
+    let n = head_normal(in.normal, v);
     var light = lights.ambient;
     for (var i = 0u; i < min(lights.count, MAX_LIGHTS); i = i + 1u) {
         let dl = lights.lights[i];

@@ -3,7 +3,7 @@
 // two-sided Lambert plus ambient, unshadowed (the patches' self-shadowing is their baked AO).
 // Owner: `PatchHead`.
 
-#include "common/camera.wgsl"
+#include "common/head.wgsl"
 #include "common/lights.wgsl"
 
 @group(0) @binding(0) var<uniform> camera: Camera;
@@ -11,30 +11,15 @@
 // Linear RGB in xyz.
 @group(1) @binding(1) var<uniform> head_color: vec4<f32>;
 
-struct HeadVarying {
-    @builtin(position) position: vec4<f32>,
-    @location(0) world: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-}
-
 @vertex
 fn vs_main(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>) -> HeadVarying {
-    var out: HeadVarying;
-    out.position = camera_clip(camera, position);
-    out.world = position;
-    out.normal = normal;
-    return out;
+    return head_varying(camera, position, normal);
 }
 
 @fragment
 fn fs_main(in: HeadVarying) -> @location(0) vec4<f32> {
     let v = camera_to_eye(camera, in.world);
-    let len = length(in.normal);
-    var n = select(v, in.normal / max(len, 1e-20), len > 1e-20);
-    // Two-sided: a back face is lit like the front it belongs to.
-    if dot(n, v) < 0.0 {
-        n = -n;
-    }
+    let n = head_normal(in.normal, v);
     var light = lights.ambient;
     for (var i = 0u; i < min(lights.count, MAX_LIGHTS); i = i + 1u) {
         let dl = lights.lights[i];

@@ -54,6 +54,7 @@ pub const SOURCES: &[(&str, &str)] = &[
     ),
     ("common/strand.wgsl", include_str!("common/strand.wgsl")),
     ("common/volume.wgsl", include_str!("common/volume.wgsl")),
+    ("common/head.wgsl", include_str!("common/head.wgsl")),
     (
         "common/fullscreen.wgsl",
         include_str!("common/fullscreen.wgsl"),
