@@ -239,8 +239,40 @@ impl Running {
     }
 
     /// Write the last rendered frame as a PNG.
+    /// Save what the window shows without the panel: the frame drawn by the presentation
+    /// shader into a texture of the surface's format, read back (an 8-bit surface that is not
+    /// sRGB holds the shader's encoded values, read as such).
     pub(super) fn save(&self, path: &Path) -> Result<()> {
-        read_texture(&self.display.ctx, &self.targets.color)?.save_png(path)?;
+        let ctx = &self.display.ctx;
+        let format = self.display.format();
+        let shot = ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("viewer/screenshot"),
+            size: self.targets.color.size(),
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let view = shot.create_view(&Default::default());
+        let mut encoder = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("viewer/screenshot/encoder"),
+            });
+        self.presenter
+            .draw(&ctx.device, &mut encoder, &self.targets.color_view, &view);
+        ctx.queue.submit([encoder.finish()]);
+        let mut image = read_texture(ctx, &shot)?;
+        if !format.is_srgb() {
+            for p in &mut image.pixels {
+                for c in &mut p[..3] {
+                    *c = tress_render::gpu::srgb_to_linear(*c);
+                }
+            }
+        }
+        image.save_png(path)?;
         Ok(())
     }
 
