@@ -443,6 +443,7 @@ impl Renderer {
                     capacity: if ppll { strand_oit.ppll_capacity() } else { 0 },
                     head_bytes: if ppll { PpllPool::head_bytes(size) } else { 0 },
                     oit,
+                    satf: false,
                 };
                 let counters = oit_kind.and_then(|k| strand_oit.counters(k));
                 ring.record(i, &mut encoder, counters, timer, info);

@@ -4,7 +4,7 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU8, Ordering};
 
-use crate::gpu::types::{PpllCounters, VoxelStats};
+use crate::gpu::types::{PpllCounters, SatfCounters, VoxelStats};
 use crate::gpu::{GpuTimer, Timings};
 use crate::strands::PpllStats;
 use crate::strands::oit::{OitKind, OitStats};
@@ -35,6 +35,8 @@ pub struct GpuReport {
     pub oit: Option<OitStats>,
     /// Voxel counter occupancy, when the frame voxelized the hair.
     pub volume: Option<VolumeStats>,
+    /// SATF's index-calculation counters, when the frame drew SATF clusters.
+    pub satf: Option<SatfCounters>,
     /// Per-pass GPU times.
     pub timings: Timings,
 }
@@ -92,6 +94,7 @@ struct Slot {
     head_bytes: u64,
     oit: Option<(OitKind, u64)>,
     volume: bool,
+    satf: bool,
     written: Vec<bool>,
 }
 
@@ -109,6 +112,8 @@ pub(crate) struct SlotInfo {
     pub(crate) head_bytes: u64,
     /// The OIT whose counters were copied and its bytes (`None`: no strand passes ran).
     pub(crate) oit: Option<(OitKind, u64)>,
+    /// The counters copied are SATF's (`SatfCounters`).
+    pub(crate) satf: bool,
 }
 
 /// Offset of the voxel statistics in a slot (after the 16 bytes of PPLL counters).
@@ -131,6 +136,7 @@ impl ReadbackRing {
                 head_bytes: 0,
                 oit: None,
                 volume: false,
+                satf: false,
                 written: Vec::new(),
             })
             .collect();
@@ -163,6 +169,7 @@ impl ReadbackRing {
         slot.capacity = info.capacity;
         slot.head_bytes = info.head_bytes;
         slot.oit = info.oit;
+        slot.satf = info.satf;
         slot.written = timer.written();
     }
 
@@ -228,8 +235,12 @@ impl ReadbackRing {
                             saturated: v.saturated,
                         }
                     });
+                    let satf = slot
+                        .satf
+                        .then(|| bytemuck::pod_read_unaligned::<SatfCounters>(&bytes[..16]));
                     let report = GpuReport {
                         frame: slot.frame,
+                        satf,
                         ppll: PpllStats::from_counters(
                             ppll_counters,
                             slot.capacity,

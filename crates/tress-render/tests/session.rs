@@ -3,7 +3,9 @@
 mod common;
 
 use tress_render::session::{FrameDetail, Session, SessionOptions, TECHNIQUES, scene_from_inputs};
-use tress_render::{COLOR_FORMAT, GpuContext, OffscreenTargets, TargetFormats, read_texture};
+use tress_render::{
+    COLOR_FORMAT, GpuContext, OffscreenTargets, StatsReadback, TargetFormats, read_texture,
+};
 use tress_satf::database::{BakeSettings, bake};
 use tress_satf::hrir::HrirSettings;
 
@@ -136,4 +138,42 @@ fn satf_without_a_database_is_a_clear_error() {
     let e = s.set_technique(&ctx, "satf").unwrap_err().to_string();
     assert!(e.contains("database"), "{e}");
     assert_eq!(s.technique(), "strands");
+}
+
+#[test]
+fn deferred_satf_frames_do_not_wait_for_their_results() {
+    // The viewer reads statistics back deferred: an SATF frame must return before the GPU has
+    // finished it (its own counters cannot have arrived) and report the newest frame that has.
+    let Some(ctx) = common::gpu() else { return };
+    let mut s = session(&ctx);
+    s.set_technique(&ctx, "satf").unwrap();
+    let targets = OffscreenTargets::new(&ctx, [64, 48], COLOR_FORMAT).unwrap();
+    let camera = s.camera([64, 48]);
+    let frame = |s: &mut Session| match s
+        .render(&ctx, &targets.targets(), &camera, None)
+        .unwrap()
+        .detail
+    {
+        FrameDetail::Satf(stats) => stats,
+        other => panic!("not an SATF frame: {other:?}"),
+    };
+    // Waiting (the default): every frame reports itself.
+    let waited = frame(&mut s);
+    assert_eq!(waited.gpu_frame, Some(waited.frame));
+    assert!(
+        waited.uniform_hsvs + waited.interpolated_hsvs > 0,
+        "{waited:?}"
+    );
+    s.set_stats_readback(StatsReadback::Deferred);
+    let first = frame(&mut s);
+    assert!(
+        first.gpu_frame.is_none_or(|g| g < first.frame),
+        "a deferred frame waited for itself: {first:?}"
+    );
+    // Once the GPU is idle, the next frame reports the one before it (or a later one).
+    ctx.wait_idle().unwrap();
+    let next = frame(&mut s);
+    let g = next.gpu_frame.expect("results arrive");
+    assert!(g >= first.frame && g <= next.frame, "{next:?}");
+    assert!(next.uniform_hsvs + next.interpolated_hsvs > 0, "{next:?}");
 }

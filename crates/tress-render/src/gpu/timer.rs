@@ -1,6 +1,8 @@
 //! GPU timestamp queries: one begin/end pair per named pass, written through the passes'
 //! `timestamp_writes` when the device has `TIMESTAMP_QUERY`.
 
+use std::cell::Cell;
+
 use std::fmt;
 
 use crate::GpuContext;
@@ -64,7 +66,9 @@ impl fmt::Display for Timings {
 pub(crate) struct GpuTimer {
     queries: Option<(wgpu::QuerySet, wgpu::Buffer)>,
     names: &'static [&'static str],
-    written: Vec<bool>,
+    /// Which passes wrote their end timestamp this frame (cells: the passes take timestamp
+    /// writes while other parts of the renderer are borrowed).
+    written: Vec<Cell<bool>>,
     period_ns: f64,
 }
 
@@ -93,14 +97,14 @@ impl GpuTimer {
         GpuTimer {
             queries,
             names,
-            written: vec![false; names.len()],
+            written: vec![Cell::new(false); names.len()],
             period_ns: f64::from(ctx.queue.get_timestamp_period()),
         }
     }
 
     /// Forget which passes were written (call at the start of a frame).
-    pub(crate) fn begin_frame(&mut self) {
-        self.written.iter_mut().for_each(|w| *w = false);
+    pub(crate) fn begin_frame(&self) {
+        self.written.iter().for_each(|w| w.set(false));
     }
 
     fn index(&self, name: &str) -> Option<usize> {
@@ -111,7 +115,7 @@ impl GpuTimer {
     /// timestamps this render pass writes (a pass split over several render passes, like one
     /// shadow map per light, writes begin in the first and end in the last).
     pub(crate) fn render_writes(
-        &mut self,
+        &self,
         name: &str,
         begin: bool,
         end: bool,
@@ -124,7 +128,7 @@ impl GpuTimer {
         let i = self.index(name)?;
         let (set, _) = self.queries.as_ref()?;
         if end {
-            self.written[i] = true;
+            self.written[i].set(true);
         }
         Some(wgpu::RenderPassTimestampWrites {
             query_set: set,
@@ -135,7 +139,7 @@ impl GpuTimer {
 
     /// Timestamp writes for a compute pass (`begin`/`end` as in [`GpuTimer::render_writes`]).
     pub(crate) fn compute_writes(
-        &mut self,
+        &self,
         name: &str,
         begin: bool,
         end: bool,
@@ -146,7 +150,7 @@ impl GpuTimer {
         let i = self.index(name)?;
         let (set, _) = self.queries.as_ref()?;
         if end {
-            self.written[i] = true;
+            self.written[i].set(true);
         }
         Some(wgpu::ComputePassTimestampWrites {
             query_set: set,
@@ -171,7 +175,7 @@ impl GpuTimer {
 
     /// Which passes were written this frame.
     pub(crate) fn written(&self) -> Vec<bool> {
-        self.written.clone()
+        self.written.iter().map(Cell::get).collect()
     }
 
     /// Turn resolved timestamps into timings, keeping the passes flagged in `written`.

@@ -398,6 +398,7 @@ impl PatchRenderer {
                     capacity: 0,
                     head_bytes: 0,
                     oit: None,
+                    satf: false,
                 };
                 ring.record(i, &mut encoder, None, timer, info);
             }

@@ -10,10 +10,10 @@
 //! lighting           eq. 8-11 per texel                                             (Lighting)
 //! head               clear (optional), opaque head with depth writes                (SatfHead)
 //! texture_mapping    layer meshes, eq. 13, blending = eq. 14                        (TextureMap)
-//! readback           HSV counters + timestamps -> SatfFrameStats
+//! readback           HSV counters + timestamps into the ReadbackRing -> SatfFrameStats (this
+//!                    frame's, or the newest arrived with StatsReadback::Deferred)
 //! ```
 
-use std::cell::Cell;
 use std::time::Instant;
 
 use glam::Vec3;
@@ -26,12 +26,12 @@ use super::{
     ClusterShadow, IndexCalc, Lighting, MapBuild, PASS_NAMES, Reflectance, SMaps, SatfDatabase,
     SatfGeometry, SatfHead, SatfSettings, StageTiming, TextureMap,
 };
-use crate::gpu::types::{CameraUniform, LightsUniform, SatfCounters, SatfParams};
-use crate::gpu::{
-    PassTiming, TargetFormats, Targets, Timings, clear_loads, read_buffer, uniform_buffer,
-};
+use crate::gpu::GpuTimer;
+use crate::gpu::types::{CameraUniform, LightsUniform, SatfParams};
+use crate::gpu::{PassTiming, TargetFormats, Targets, Timings, clear_loads, uniform_buffer};
 use crate::head::HeadGeometry;
 use crate::inputs::union_sphere;
+use crate::stats::{ReadbackRing, SlotInfo, StatsReadback};
 use crate::{Camera, DirectionalLight, GpuContext, RenderError};
 
 /// Everything a SATF frame draws. Plain data: the application owns geometry and targets.
@@ -60,6 +60,10 @@ pub struct SatfFrameInputs<'a> {
 pub struct SatfFrameStats {
     /// Index of this frame (from 0).
     pub frame: u64,
+    /// The frame the HSV counters and the GPU timings belong to: this one with
+    /// [`StatsReadback::Wait`], the newest that has arrived with [`StatsReadback::Deferred`]
+    /// (`None` before any has; the counters are then zero).
+    pub gpu_frame: Option<u64>,
     /// Target size in pixels.
     pub size: [u32; 2],
     /// Clusters drawn.
@@ -94,134 +98,6 @@ impl SatfFrameStats {
             ("shadowing", "satf/shadowing"),
         ]
         .map(|(key, pass)| (key, self.timings.get(pass)))
-    }
-}
-
-/// Offset of the timestamps in the readback buffer.
-const TIMESTAMP_OFFSET: u64 = 256;
-
-/// Timestamp queries of the SATF passes: two per name of [`PASS_NAMES`].
-#[derive(Debug)]
-struct SatfTimer {
-    queries: Option<(wgpu::QuerySet, wgpu::Buffer)>,
-    written: Vec<Cell<bool>>,
-    /// Set while stages are timed by wall clock: no timestamp writes.
-    suspended: Cell<bool>,
-    period_ns: f64,
-}
-
-impl SatfTimer {
-    fn new(ctx: &GpuContext) -> Self {
-        let count = PASS_NAMES.len() as u32 * 2;
-        let queries = ctx.caps.timestamps.then(|| {
-            (
-                ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
-                    label: Some("satf/timestamps"),
-                    ty: wgpu::QueryType::Timestamp,
-                    count,
-                }),
-                ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("satf/timestamps-resolve"),
-                    size: u64::from(count) * 8,
-                    usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                    mapped_at_creation: false,
-                }),
-            )
-        });
-        SatfTimer {
-            queries,
-            written: vec![Cell::new(false); PASS_NAMES.len()],
-            suspended: Cell::new(false),
-            period_ns: f64::from(ctx.queue.get_timestamp_period()),
-        }
-    }
-
-    /// `(query set, begin index, end index)` of pass `name`; marks it written when `end`.
-    fn slots(
-        &self,
-        name: &str,
-        begin: bool,
-        end: bool,
-    ) -> Option<(&wgpu::QuerySet, Option<u32>, Option<u32>)> {
-        let i = PASS_NAMES.iter().position(|n| *n == name)?;
-        let (set, _) = self.queries.as_ref()?;
-        if self.suspended.get() || (!begin && !end) {
-            // A middle pass of a stage split over several passes writes nothing.
-            return None;
-        }
-        if end {
-            self.written[i].set(true);
-        }
-        Some((
-            set,
-            begin.then_some(2 * i as u32),
-            end.then_some(2 * i as u32 + 1),
-        ))
-    }
-
-    fn render(
-        &self,
-        name: &str,
-        begin: bool,
-        end: bool,
-    ) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        self.slots(name, begin, end)
-            .map(|(query_set, b, e)| wgpu::RenderPassTimestampWrites {
-                query_set,
-                beginning_of_pass_write_index: b,
-                end_of_pass_write_index: e,
-            })
-    }
-
-    fn compute(
-        &self,
-        name: &str,
-        begin: bool,
-        end: bool,
-    ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        self.slots(name, begin, end)
-            .map(|(query_set, b, e)| wgpu::ComputePassTimestampWrites {
-                query_set,
-                beginning_of_pass_write_index: b,
-                end_of_pass_write_index: e,
-            })
-    }
-
-    fn resolve(&self, encoder: &mut wgpu::CommandEncoder, dst: &wgpu::Buffer) {
-        if let Some((set, resolve)) = &self.queries {
-            let count = PASS_NAMES.len() as u32 * 2;
-            encoder.resolve_query_set(set, 0..count, resolve, 0);
-            encoder.copy_buffer_to_buffer(
-                resolve,
-                0,
-                dst,
-                TIMESTAMP_OFFSET,
-                Some(u64::from(count) * 8),
-            );
-        }
-    }
-
-    fn parse(&self, bytes: &[u8]) -> Timings {
-        if self.queries.is_none() {
-            return Timings::NotSupported;
-        }
-        let ts = |i: usize| {
-            bytes
-                .get(i * 8..i * 8 + 8)
-                .and_then(|b| b.try_into().ok())
-                .map_or(0, u64::from_le_bytes)
-        };
-        Timings::Passes(
-            PASS_NAMES
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| self.written[*i].get())
-                .map(|(i, name)| PassTiming {
-                    name,
-                    ms: ts(2 * i + 1).saturating_sub(ts(2 * i)) as f64 * self.period_ns * 1e-6,
-                })
-                .collect(),
-        )
     }
 }
 
@@ -291,8 +167,9 @@ pub struct SatfRenderer {
     lighting: Lighting,
     head: SatfHead,
     texture_map: TextureMap,
-    timer: SatfTimer,
-    readback: wgpu::Buffer,
+    timer: GpuTimer,
+    ring: ReadbackRing,
+    stats_readback: StatsReadback,
     frame: u64,
 }
 
@@ -328,14 +205,8 @@ impl SatfRenderer {
                 uniform_buffer(ctx, "satf/uniforms/params", &SatfParams::default()),
             )
         })?;
-        let readback = ctx.scoped("creating the SATF readback buffer", || {
-            ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("satf/stats/readback"),
-                size: TIMESTAMP_OFFSET + PASS_NAMES.len() as u64 * 16,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        })?;
+        let timer = GpuTimer::new(ctx, "satf", PASS_NAMES);
+        let ring = ReadbackRing::new(ctx, &timer, 3);
         Ok(SatfRenderer {
             formats,
             index_calc: IndexCalc::new(ctx)?,
@@ -346,14 +217,22 @@ impl SatfRenderer {
             lighting: Lighting::new(ctx)?,
             head: SatfHead::new(ctx, formats.color)?,
             texture_map: TextureMap::new(ctx, formats.color)?,
-            timer: SatfTimer::new(ctx),
+            timer,
+            ring,
+            stats_readback: StatsReadback::Wait,
             settings,
             camera,
             lights,
             params,
-            readback,
             frame: 0,
         })
+    }
+
+    /// How `render` reports the GPU's counters and timings (default [`StatsReadback::Wait`]:
+    /// wait for the frame; `Deferred` never blocks and reports the newest frame that arrived).
+    /// `stage_timing = "wall"` waits for every stage whatever this says.
+    pub fn set_stats_readback(&mut self, mode: StatsReadback) {
+        self.stats_readback = mode;
     }
 
     /// The current settings.
@@ -505,19 +384,36 @@ impl SatfRenderer {
             params: &self.params,
         };
         let timer = &self.timer;
-        timer.written.iter().for_each(|w| w.set(false));
+        timer.begin_frame();
         let timing = self.settings.stage_timing;
-        timer.suspended.set(timing == StageTiming::WallClock);
+        // Stages timed by wall clock write no timestamps.
+        let wall = timing == StageTiming::WallClock;
+        let render_ts = |name: &str, begin: bool, end: bool| {
+            if wall {
+                None
+            } else {
+                timer.render_writes(name, begin, end)
+            }
+        };
+        let compute_ts = |name: &str, begin: bool, end: bool| {
+            if wall {
+                None
+            } else {
+                timer.compute_writes(name, begin, end)
+            }
+        };
+        let ring = &mut self.ring;
+        let slot = ring.idle();
         let wall_times =
             ctx.scoped("rendering a SATF frame", || -> Result<_, RenderError> {
                 let mut stages = Stages::new(ctx, timing)?;
                 if let Some(g) = geometry {
                     let encoder = &mut stages.encoder;
                     // ---- index calculation (§6.2.1) and map construction (§6.2.2)
-                    let ts = timer.compute("satf/index_calculation", true, true);
+                    let ts = compute_ts("satf/index_calculation", true, true);
                     self.index_calc.encode(ctx, encoder, u, g, db, ts);
                     stages.cut("satf/index_calculation")?;
-                    let ts = timer.compute("satf/map_construction", true, true);
+                    let ts = compute_ts("satf/map_construction", true, true);
                     self.map_build
                         .encode(ctx, &mut stages.encoder, u, g, db, ts);
                     stages.cut("satf/map_construction")?;
@@ -533,16 +429,16 @@ impl SatfRenderer {
                             inputs.head,
                             |i, _| {
                                 begun = true;
-                                timer.render("satf/shadowing", i == 0, false)
+                                render_ts("satf/shadowing", i == 0, false)
                             },
                         );
                     }
-                    let ts = timer.compute("satf/shadowing", !begun, true);
+                    let ts = compute_ts("satf/shadowing", !begun, true);
                     self.s_maps
                         .encode(ctx, &mut stages.encoder, u, g, &self.shadow_targets, ts);
                     stages.cut("satf/shadowing")?;
                     // ---- lighting (§6.3)
-                    let ts = timer.compute("satf/lighting", true, true);
+                    let ts = compute_ts("satf/lighting", true, true);
                     self.lighting.encode(ctx, &mut stages.encoder, u, g, ts);
                     stages.cut("satf/lighting")?;
                 }
@@ -552,7 +448,7 @@ impl SatfRenderer {
                         &mut stages.encoder,
                         "satf/head/pass",
                         clear_loads(inputs.clear),
-                        timer.render("satf/head", true, true),
+                        render_ts("satf/head", true, true),
                     );
                     if let Some(head) = inputs.head {
                         self.head.draw(
@@ -575,34 +471,45 @@ impl SatfRenderer {
                         g,
                         &order,
                         targets,
-                        timer.render("satf/texture_mapping", true, true),
+                        render_ts("satf/texture_mapping", true, true),
                     );
                     stages.cut("satf/texture_mapping")?;
-                    stages.encoder.copy_buffer_to_buffer(
-                        &g.counters,
-                        0,
-                        &self.readback,
-                        0,
-                        Some(size_of::<SatfCounters>() as u64),
-                    );
                 }
-                timer.resolve(&mut stages.encoder, &self.readback);
+                // ---- statistics readback: the counters and the timestamps into a slot
+                if let Some(i) = slot {
+                    let info = SlotInfo {
+                        frame,
+                        capacity: 0,
+                        head_bytes: 0,
+                        oit: None,
+                        satf: geometry.is_some(),
+                    };
+                    let counters = geometry.map(|g| &g.counters);
+                    ring.record(i, &mut stages.encoder, counters, timer, info);
+                }
                 ctx.queue.submit([stages.encoder.finish()]);
+                if let Some(i) = slot {
+                    ring.map(i);
+                }
                 Ok(stages.wall.map(|(_, times)| times))
             })??;
 
-        // ---- readback (waits for the frame)
-        let bytes = read_buffer(ctx, &self.readback, 0..self.readback.size())?;
-        let counters: SatfCounters = geometry.map_or_else(SatfCounters::default, |_| {
-            bytemuck::pod_read_unaligned(&bytes[..size_of::<SatfCounters>()])
-        });
-        let timings = match wall_times {
-            Some(times) => Timings::Passes(times),
-            None => self.timer.parse(&bytes[TIMESTAMP_OFFSET as usize..]),
+        // ---- this frame's results (Wait), or the newest that arrived (Deferred)
+        let report = match (self.stats_readback, slot) {
+            (StatsReadback::Wait, Some(i)) => self.ring.wait(ctx, &self.timer, i)?,
+            _ => self.ring.harvest(ctx, &self.timer)?,
+        };
+        let counters = report.as_ref().and_then(|r| r.satf).unwrap_or_default();
+        let timings = match (wall_times, &report) {
+            (Some(times), _) => Timings::Passes(times),
+            (None, Some(r)) => r.timings.clone(),
+            (None, None) if ctx.caps.timestamps => Timings::Passes(Vec::new()),
+            (None, None) => Timings::NotSupported,
         };
         let l = geometry.map(|g| g.layout);
         Ok(SatfFrameStats {
             frame,
+            gpu_frame: report.map(|r| r.frame),
             size,
             clusters: l.map_or(0, |l| l.clusters),
             layers: l.map_or(0, |l| l.tiles()),

@@ -401,7 +401,8 @@ impl Session {
                 let volume = load_clusters(&self.scene, &settings, self.prepared.hair.as_ref())?;
                 let database = SatfDatabase::new(ctx, &db)?;
                 let geometry = SatfGeometry::new(ctx, &volume, &database, &settings.settings)?;
-                let renderer = SatfRenderer::new(ctx, self.formats, settings.settings)?;
+                let mut renderer = SatfRenderer::new(ctx, self.formats, settings.settings)?;
+                renderer.set_stats_readback(self.readback);
                 self.satf = Some(SatfPath {
                     renderer,
                     geometry,
@@ -472,6 +473,9 @@ impl Session {
         if let Some(p) = &mut self.patches {
             p.renderer.set_stats_readback(mode);
         }
+        if let Some(s) = &mut self.satf {
+            s.renderer.set_stats_readback(mode);
+        }
     }
 
     /// Render one frame with the current technique into `targets` (cleared to the scene's
@@ -538,7 +542,7 @@ impl Session {
                     ..Memory::default()
                 };
                 (
-                    Some(stats.timings.clone()),
+                    stats.gpu_frame.map(|_| stats.timings.clone()),
                     memory,
                     FrameDetail::Satf(stats),
                 )
