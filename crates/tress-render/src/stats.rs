@@ -116,6 +116,19 @@ pub(crate) struct SlotInfo {
     pub(crate) satf: bool,
 }
 
+impl SlotInfo {
+    /// A frame that recorded no OIT counters (timestamps only, or SATF's counters).
+    pub(crate) fn without_oit(frame: u64) -> Self {
+        SlotInfo {
+            frame,
+            capacity: 0,
+            head_bytes: 0,
+            oit: None,
+            satf: false,
+        }
+    }
+}
+
 /// Offset of the voxel statistics in a slot (after the 16 bytes of PPLL counters).
 const VOLUME_OFFSET: u64 = 16;
 

@@ -15,9 +15,8 @@ use tress_render::{
     COLOR_FORMAT, Camera, DirectionalLight, HeadGeometry, OffscreenTargets, SatfDatabase,
     SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, TargetFormats,
 };
-use tress_satf::database::{BakeSettings, Database, bake};
+use tress_satf::database::Database;
 use tress_satf::generate::{ClusterStyle, generate_clusters};
-use tress_satf::hrir::HrirSettings;
 use tress_satf::{HairVolume, ShellSampling};
 
 const SIZE: u32 = 160;
@@ -27,19 +26,7 @@ const MAX_MEAN_FLIP: f32 = 0.03;
 /// A small database, baked once per test binary.
 fn database() -> &'static Database {
     static DB: OnceLock<Database> = OnceLock::new();
-    DB.get_or_init(|| {
-        let s = BakeSettings {
-            samples: 96,
-            hrir: HrirSettings {
-                pixels: 8,
-                view_angles: 8,
-                light_angles: 8,
-                ..Default::default()
-            },
-            ..Default::default()
-        };
-        bake(&s, |_, _| {}).expect("bake")
-    })
+    DB.get_or_init(|| common::small_satf_database(96))
 }
 
 fn settings() -> SatfSettings {

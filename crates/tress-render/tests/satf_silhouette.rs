@@ -12,8 +12,6 @@ use tress_hair::{HairAsset, formats};
 use tress_render::read_texture;
 use tress_render::session::{Session, SessionOptions, scene_from_inputs};
 use tress_render::{COLOR_FORMAT, GpuContext, LinearImage, OffscreenTargets, TargetFormats};
-use tress_satf::database::{BakeSettings, bake};
-use tress_satf::hrir::HrirSettings;
 
 const SIZE: [u32; 2] = [192, 108];
 const DILATION: i64 = 4;
@@ -42,19 +40,7 @@ fn session_on(ctx: &GpuContext, path: &std::path::Path) -> Session {
     let (scene, auto_frame) = scene_from_inputs(&[path.to_path_buf()]).unwrap();
     let options = SessionOptions {
         auto_frame,
-        satf_database: Some(Box::new(|_| {
-            let s = BakeSettings {
-                samples: 48,
-                hrir: HrirSettings {
-                    pixels: 8,
-                    view_angles: 8,
-                    light_angles: 8,
-                    ..Default::default()
-                },
-                ..Default::default()
-            };
-            bake(&s, |_, _| {}).map_err(Into::into)
-        })),
+        satf_database: Some(Box::new(|_| Ok(common::small_satf_database(48)))),
         ..SessionOptions::default()
     };
     Session::new(ctx, TargetFormats::default(), scene, options).unwrap()

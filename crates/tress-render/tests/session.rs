@@ -6,8 +6,6 @@ use tress_render::session::{FrameDetail, Session, SessionOptions, TECHNIQUES, sc
 use tress_render::{
     COLOR_FORMAT, GpuContext, OffscreenTargets, StatsReadback, TargetFormats, read_texture,
 };
-use tress_satf::database::{BakeSettings, bake};
-use tress_satf::hrir::HrirSettings;
 
 const SIZE: [u32; 2] = [96, 54];
 
@@ -17,19 +15,7 @@ fn session(ctx: &GpuContext) -> Session {
     let options = SessionOptions {
         auto_frame,
         overrides: vec!["hair.0.strand_ratio=0.005".into()],
-        satf_database: Some(Box::new(|_| {
-            let s = BakeSettings {
-                samples: 48,
-                hrir: HrirSettings {
-                    pixels: 8,
-                    view_angles: 8,
-                    light_angles: 8,
-                    ..Default::default()
-                },
-                ..Default::default()
-            };
-            bake(&s, |_, _| {}).map_err(Into::into)
-        })),
+        satf_database: Some(Box::new(|_| Ok(common::small_satf_database(48)))),
         ..SessionOptions::default()
     };
     Session::new(ctx, TargetFormats::default(), scene, options).unwrap()

@@ -15,8 +15,6 @@ use tress_render::{
     PatchFrameInputs, PatchRenderer, PreparedScene, Renderer, SatfDatabase, SatfFrameInputs,
     SatfGeometry, SatfRenderer, TargetFormats, Technique, read_texture,
 };
-use tress_satf::database::{BakeSettings, bake};
-use tress_satf::hrir::HrirSettings;
 
 const SIZE: [u32; 2] = [96, 54];
 
@@ -26,24 +24,9 @@ fn scene() -> tress_scene::Scene {
     scene
 }
 
-/// A small HRIR database (deterministic: the bake is seeded).
-fn database() -> tress_satf::Database {
-    let s = BakeSettings {
-        samples: 48,
-        hrir: HrirSettings {
-            pixels: 8,
-            view_angles: 8,
-            light_angles: 8,
-            ..Default::default()
-        },
-        ..Default::default()
-    };
-    bake(&s, |_, _| {}).unwrap()
-}
-
 fn session_frame(ctx: &GpuContext, technique: &str) -> LinearImage {
     let options = SessionOptions {
-        satf_database: Some(Box::new(|_| Ok(database()))),
+        satf_database: Some(Box::new(|_| Ok(common::small_satf_database(48)))),
         ..SessionOptions::default()
     };
     let mut s = Session::new(ctx, TargetFormats::default(), scene(), options).unwrap();
@@ -138,7 +121,7 @@ fn session_frames_equal_the_renderers_frames() {
 
     let settings = satf_settings(&scene).unwrap();
     let volume = load_clusters(&scene, &settings, prepared.hair.as_ref()).unwrap();
-    let db = SatfDatabase::new(&ctx, &database()).unwrap();
+    let db = SatfDatabase::new(&ctx, &common::small_satf_database(48)).unwrap();
     let geometry = SatfGeometry::new(&ctx, &volume, &db, &settings.settings).unwrap();
     let mut renderer =
         SatfRenderer::new(&ctx, TargetFormats::default(), settings.settings).unwrap();

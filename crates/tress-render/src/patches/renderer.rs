@@ -393,14 +393,7 @@ impl PatchRenderer {
             }
             // ---- timestamps readback
             if let Some(i) = slot {
-                let info = SlotInfo {
-                    frame,
-                    capacity: 0,
-                    head_bytes: 0,
-                    oit: None,
-                    satf: false,
-                };
-                ring.record(i, &mut encoder, None, timer, info);
+                ring.record(i, &mut encoder, None, timer, SlotInfo::without_oit(frame));
             }
             ctx.queue.submit([encoder.finish()]);
             if let Some(i) = slot {

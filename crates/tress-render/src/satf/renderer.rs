@@ -478,11 +478,8 @@ impl SatfRenderer {
                 // ---- statistics readback: the counters and the timestamps into a slot
                 if let Some(i) = slot {
                     let info = SlotInfo {
-                        frame,
-                        capacity: 0,
-                        head_bytes: 0,
-                        oit: None,
                         satf: geometry.is_some(),
+                        ..SlotInfo::without_oit(frame)
                     };
                     let counters = geometry.map(|g| &g.counters);
                     ring.record(i, &mut stages.encoder, counters, timer, info);

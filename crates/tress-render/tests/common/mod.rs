@@ -198,3 +198,19 @@ pub fn check_golden(name: &str, image: &image::RgbImage, max_mean_flip: f32) -> 
     eprintln!("{name}: mean FLIP {mean:.5}");
     mean
 }
+
+/// A small HRIR database for SATF tests: 8×8 view and light angles of 8-pixel HRIRs, `samples`
+/// samples each (deterministic: the bake is seeded).
+pub fn small_satf_database(samples: u32) -> tress_satf::Database {
+    let s = tress_satf::database::BakeSettings {
+        samples,
+        hrir: tress_satf::hrir::HrirSettings {
+            pixels: 8,
+            view_angles: 8,
+            light_angles: 8,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    tress_satf::database::bake(&s, |_, _| {}).expect("bake")
+}
