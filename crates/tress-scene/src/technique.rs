@@ -41,6 +41,15 @@ impl TechniqueKind {
             TechniqueKind::Satf => "satf",
         }
     }
+
+    /// Whether the technique draws the hair's strands as loaded (strands, volume, hybrid), so
+    /// that moving them moves what it draws; patches and SATF build their own geometry.
+    pub const fn draws_strands(self) -> bool {
+        matches!(
+            self,
+            TechniqueKind::Strands | TechniqueKind::Volume | TechniqueKind::Hybrid
+        )
+    }
 }
 
 /// The names of [`TechniqueKind::ALL`], in that order.

@@ -1,6 +1,5 @@
-//! The renderer setup shared by `render`, `compare` and sequences, the `volume` part of the JSON
-//! report, and `tress render --frames N --animate sway`: a procedural sway of the hair, voxelized
-//! again every frame, written as numbered images.
+//! `tress render --frames N --animate sway`: a procedural sway of the hair, voxelized again
+//! every frame, written as numbered images.
 
 use std::path::{Path, PathBuf};
 
@@ -8,69 +7,16 @@ use anyhow::{Context, Result, bail};
 use glam::{Quat, Vec3};
 use serde::Serialize;
 use tress_hair::HairAsset;
-use tress_render::scene_setup::PreparedScene;
-use tress_render::{
-    COLOR_FORMAT, FrameStats, GpuContext, OffscreenTargets, Renderer, TargetFormats, Technique,
-    read_texture,
-};
-use tress_scene::Scene;
+use tress_render::session::{FrameDetail, Session, TechniqueKind};
+use tress_render::{COLOR_FORMAT, GpuContext, OffscreenTargets, read_texture};
 
-use super::render::{Report, frame_inputs, hair_counts, report, save, upload_head};
+use super::report::{Report, save, volume_report};
 
 /// Frames per second of a sequence (the sway's time step).
 pub(crate) const FPS: f32 = 24.0;
 /// The sway: peak bend at the tips in radians, and its period in seconds.
 const SWAY_AMPLITUDE: f32 = 0.35;
 const SWAY_PERIOD_S: f32 = 2.0;
-
-/// The `volume` object of the JSON report.
-#[derive(Serialize, Clone, Debug)]
-pub(crate) struct VolumeReport {
-    /// Voxels per axis.
-    pub(crate) resolution: u32,
-    /// GPU time of the voxelization (bounds, counters, resolve), when timestamps exist.
-    pub(crate) voxelize_ms: Option<f64>,
-    /// Bytes of voxel counters, volume texture and occupancy blocks.
-    pub(crate) bytes: u64,
-}
-
-impl std::fmt::Display for VolumeReport {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "volume: {}³ voxels ({:.1} MiB), voxelized in {}",
-            self.resolution,
-            self.bytes as f64 / (1u64 << 20) as f64,
-            self.voxelize_ms
-                .map_or("(untimed)".to_string(), |ms| format!("{ms:.3} ms"))
-        )
-    }
-}
-
-/// The volume part of a frame's report, when the frame voxelized the hair.
-pub(crate) fn volume_report(stats: &FrameStats) -> Option<VolumeReport> {
-    stats.volume.map(|v| VolumeReport {
-        resolution: v.resolution,
-        voxelize_ms: stats
-            .gpu
-            .as_ref()
-            .and_then(|g| g.timings.get("volume/voxelize")),
-        bytes: v.bytes,
-    })
-}
-
-/// A renderer with the scene's strand, volume and hybrid settings and its technique.
-pub(crate) fn renderer(
-    ctx: &GpuContext,
-    scene: &Scene,
-    prepared: &PreparedScene,
-) -> Result<Renderer> {
-    let mut renderer = Renderer::new(ctx, TargetFormats::default(), prepared.strands.clone())?;
-    renderer.set_volume_settings(ctx, prepared.volume.clone())?;
-    renderer.set_hybrid_settings(prepared.hybrid.clone())?;
-    renderer.set_technique(scene.technique.parse::<Technique>()?);
-    Ok(renderer)
-}
 
 /// The hair at time `t` seconds of the sway: every strand bends about a horizontal axis through
 /// its root, each segment turned by `θ · k / n` (segment `k` of `n`), so roots stay put, tips
@@ -122,63 +68,64 @@ pub(crate) struct Sequence<'a> {
     pub(crate) json: bool,
 }
 
-/// `tress render --frames N [--animate sway]`.
+impl Sequence<'_> {
+    /// The number of frames, or why the sequence cannot be drawn with `technique`.
+    pub(crate) fn check(&self, technique: TechniqueKind) -> Result<u32> {
+        let frames = self
+            .frames
+            .context("--animate needs --frames N (the number of frames)")?;
+        if frames == 0 || frames > 100_000 {
+            bail!("--frames must be in 1..=100000, got {frames}");
+        }
+        match self.animate {
+            None | Some("sway") => {}
+            Some(other) => bail!("unknown --animate `{other}` (expected sway)"),
+        }
+        if !technique.draws_strands() {
+            bail!("--frames renders the strands, volume and hybrid techniques, not `{technique}`");
+        }
+        Ok(frames)
+    }
+}
+
+/// `tress render --frames N [--animate sway]` of the session's scene.
 pub(crate) fn run(
     ctx: &GpuContext,
+    session: &mut Session,
     seq: Sequence<'_>,
     output: &Path,
-    scene: &Scene,
-    prepared: &PreparedScene,
-    size: [u32; 2],
 ) -> Result<()> {
-    let frames = seq
-        .frames
-        .context("--animate needs --frames N (the number of frames)")?;
-    if frames == 0 || frames > 100_000 {
-        bail!("--frames must be in 1..=100000, got {frames}");
-    }
-    match seq.animate {
-        None | Some("sway") => {}
-        Some(other) => bail!("unknown --animate `{other}` (expected sway)"),
-    }
-    let technique = scene.technique.as_str();
-    if !["strands", "volume", "hybrid"].contains(&technique) {
-        bail!("--frames renders the strands, volume and hybrid techniques, not `{technique}`");
-    }
-    let mut renderer = renderer(ctx, scene, prepared)?;
+    let frames = seq.check(session.technique_kind())?;
+    let size = [session.scene().output.width, session.scene().output.height];
     let targets = OffscreenTargets::new(ctx, size, COLOR_FORMAT)?;
-    let mut hair = prepared
-        .hair
-        .as_ref()
-        .map(|h| renderer.upload_hair(ctx, h))
-        .transpose()?;
-    let head = upload_head(ctx, prepared)?;
-    let camera = PreparedScene::camera(scene, size);
-    let (strands, segments) = hair_counts(prepared);
+    let camera = session.camera(size);
+    // The hair at rest (a copy only when it moves).
+    let rest = seq.animate.and(session.prepared().hair.clone());
     let mut reports = Vec::new();
     for i in 0..frames {
-        if let (Some(asset), Some(g), Some(_)) = (&prepared.hair, &mut hair, seq.animate) {
-            g.update_positions(ctx, &sway(asset, i as f32 / FPS))?;
+        if let Some(asset) = &rest {
+            session.update_hair_positions(ctx, &sway(asset, i as f32 / FPS))?;
         }
-        let inputs = frame_inputs(camera, prepared, hair.as_ref(), head.as_ref());
-        let stats = renderer.render(ctx, &targets.targets(), &inputs)?;
+        let frame = session.render(ctx, &targets.targets(), &camera, None)?;
         let image = read_texture(ctx, &targets.color).context("reading the frame back")?;
         let path = numbered(output, i);
         save(&image, &path)?;
-        if !seq.json {
+        if !seq.json
+            && let FrameDetail::Strands(stats) = &frame.detail
+        {
             let total = stats.gpu.as_ref().and_then(|g| g.timings.total_ms());
             println!(
                 "wrote {} ({}){}",
                 path.display(),
                 total.map_or("no GPU timestamps".to_string(), |ms| format!("{ms:.2} ms")),
-                volume_report(&stats).map_or(String::new(), |v| format!("; {v}"))
+                volume_report(stats).map_or(String::new(), |v| format!("; {v}"))
             );
         }
-        reports.push(report(ctx, scene, &path, strands, segments, &stats));
+        reports.push(Report::new(ctx, session, &frame, &path));
     }
     if seq.json {
         let seq = SequenceReport {
-            technique: scene.technique.clone(),
+            technique: session.technique().to_string(),
             frames: reports,
         };
         println!("{}", serde_json::to_string(&seq)?);

@@ -14,22 +14,22 @@
 //! warm-up frame; on a CPU Vulkan (lavapipe) they are CPU times.
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
-use glam::{UVec2, Vec3};
+use glam::UVec2;
 use serde::Serialize;
 use tress_render::gpu::linear_to_srgb;
 use tress_render::lod::dither_threshold;
-use tress_render::scene_setup::{PreparedScene, frame_bounds};
-use tress_render::{
-    COLOR_FORMAT, Camera, FrameInputs, FrameStats, GpuContext, HeadGeometry, LinearImage,
-    OffscreenTargets, Renderer, StrandGeometry, Technique, read_texture,
-};
+use tress_render::scene_setup::PreparedScene;
+use tress_render::session::{FrameDetail, Session, TechniqueKind};
+use tress_render::{COLOR_FORMAT, Camera, GpuContext, LinearImage, OffscreenTargets, read_texture};
 use tress_trace::{DisplayImage, metrics};
 
-use super::animate::{VolumeReport, numbered, volume_report};
-use super::render::{AMBIENT, apply_options, base_scene};
+use super::animate::numbered;
+use super::open::open_session;
+use super::render::{apply_options, base_scene};
+use super::report::{VolumeReport, check_output, save, volume_report};
 use crate::progress;
 
 /// Arguments of `tress compare`.
@@ -106,62 +106,36 @@ struct Report {
     rows: Vec<Row>,
 }
 
-/// The renderer and the uploaded scene.
-struct Stage {
-    renderer: Renderer,
-    targets: OffscreenTargets,
-    hair: Option<StrandGeometry>,
-    head: Option<HeadGeometry>,
-}
-
-impl Stage {
-    fn frame(
-        &mut self,
-        ctx: &GpuContext,
-        prepared: &PreparedScene,
-        camera: Camera,
-        with_hair: bool,
-    ) -> Result<FrameStats> {
-        let inputs = FrameInputs {
-            camera,
-            lights: &prepared.lights,
-            ambient: Vec3::splat(AMBIENT),
-            material: prepared.material,
-            hair: self.hair.as_ref().filter(|_| with_hair),
-            head: self.head.as_ref(),
-            clear: prepared.clear_color(),
-        };
-        Ok(self
-            .renderer
-            .render(ctx, &self.targets.targets(), &inputs)?)
+/// Render the session's frame from `camera` with `technique`: one warm-up frame, then `repeat`
+/// timed ones; the last image.
+fn timed(
+    ctx: &GpuContext,
+    session: &mut Session,
+    targets: &OffscreenTargets,
+    camera: &Camera,
+    technique: TechniqueKind,
+    repeat: u32,
+) -> Result<(LinearImage, Side)> {
+    session.set_technique(ctx, technique.name())?;
+    let mut frame = session.render(ctx, &targets.targets(), camera, None)?;
+    let mut total = Some(0.0);
+    for _ in 0..repeat {
+        frame = session.render(ctx, &targets.targets(), camera, None)?;
+        let ms = frame.timings.as_ref().and_then(|t| t.total_ms());
+        total = total.zip(ms).map(|(a, b)| a + b);
     }
-
-    /// Render with `technique`: one warm-up frame, then `repeat` timed ones; the last image.
-    fn timed(
-        &mut self,
-        ctx: &GpuContext,
-        prepared: &PreparedScene,
-        camera: Camera,
-        technique: Technique,
-        repeat: u32,
-    ) -> Result<(LinearImage, Side)> {
-        self.renderer.set_technique(technique);
-        let mut stats = self.frame(ctx, prepared, camera, true)?;
-        let mut total = Some(0.0);
-        for _ in 0..repeat {
-            stats = self.frame(ctx, prepared, camera, true)?;
-            let ms = stats.gpu.as_ref().and_then(|g| g.timings.total_ms());
-            total = total.zip(ms).map(|(a, b)| a + b);
-        }
-        let image = read_texture(ctx, &self.targets.color).context("reading the frame back")?;
-        Ok((
-            image,
-            Side {
-                gpu_ms: total.map(|t| t / f64::from(repeat)),
-                volume: volume_report(&stats),
-            },
-        ))
-    }
+    let image = read_texture(ctx, &targets.color).context("reading the frame back")?;
+    let volume = match &frame.detail {
+        FrameDetail::Strands(stats) => volume_report(stats),
+        _ => None,
+    };
+    Ok((
+        image,
+        Side {
+            gpu_ms: total.map(|t| t / f64::from(repeat)),
+            volume,
+        },
+    ))
 }
 
 /// The display encoding of an opaque linear image (for FLIP).
@@ -225,41 +199,27 @@ pub(crate) fn run(args: Args) -> Result<()> {
     if args.csv.is_some() && args.sweep.is_none() {
         bail!("--csv needs --sweep N");
     }
+    check_output(&args.output)?;
     let (mut scene, auto_frame) = base_scene(&args.inputs)?;
-    apply_options(&mut scene, None, args.width, args.height, &args.sets)?;
-    let pb = progress::spinner("loading hair");
-    let prepared = PreparedScene::load(&scene);
+    apply_options(
+        &mut scene,
+        Some("strands"),
+        args.width,
+        args.height,
+        &args.sets,
+    )?;
+    let ctx = GpuContext::headless()?;
+    let pb = progress::spinner("loading the scene");
+    let session = open_session(&ctx, &scene, auto_frame, args.sets.clone(), None);
     pb.finish_and_clear();
-    let prepared = prepared?;
-    let Some(bounds) = prepared.hair.as_ref().map(|h| h.bounds()) else {
+    let mut session = session?;
+    let Some(asset) = session.prepared().hair.as_ref() else {
         bail!("the scene has no hair to compare");
     };
-    let prepared = if auto_frame {
-        frame_bounds(&mut scene, bounds.min, bounds.max);
-        scene.apply_overrides(&args.sets)?;
-        prepared.reload_settings(&scene)?
-    } else {
-        prepared
-    };
+    let (strands, segments) = (asset.strand_count(), asset.segment_count());
+    let scene = session.scene().clone();
     let size = [scene.output.width, scene.output.height];
-    let ctx = GpuContext::headless()?;
-    let renderer = super::animate::renderer(&ctx, &scene, &prepared)?;
-    let asset = prepared
-        .hair
-        .as_ref()
-        .context("the scene has no hair to compare")?;
-    let hair = Some(renderer.upload_hair(&ctx, asset)?);
-    let head = prepared
-        .head
-        .as_ref()
-        .map(|m| HeadGeometry::new(&ctx, m))
-        .transpose()?;
-    let mut stage = Stage {
-        renderer,
-        targets: OffscreenTargets::new(&ctx, size, COLOR_FORMAT)?,
-        hair,
-        head,
-    };
+    let targets = OffscreenTargets::new(&ctx, size, COLOR_FORMAT)?;
 
     let (eye, target) = (scene.camera.eye, scene.camera.target);
     let mut rows = Vec::new();
@@ -282,13 +242,28 @@ pub(crate) fn run(args: Args) -> Result<()> {
             ctx.adapter_info.name
         ));
         let result = (|| -> Result<_> {
-            let (s_img, s_side) =
-                stage.timed(&ctx, &prepared, camera, Technique::Strands, args.repeat)?;
-            let (v_img, v_side) =
-                stage.timed(&ctx, &prepared, camera, Technique::Volume, args.repeat)?;
-            stage.renderer.set_technique(Technique::Strands);
-            stage.frame(&ctx, &prepared, camera, false)?;
-            let bare = read_texture(&ctx, &stage.targets.color)?;
+            let (s_img, s_side) = timed(
+                &ctx,
+                &mut session,
+                &targets,
+                &camera,
+                TechniqueKind::Strands,
+                args.repeat,
+            )?;
+            let (v_img, v_side) = timed(
+                &ctx,
+                &mut session,
+                &targets,
+                &camera,
+                TechniqueKind::Volume,
+                args.repeat,
+            )?;
+            session.set_technique(&ctx, "strands")?;
+            session.set_hair_visible(false);
+            let bare = session.render(&ctx, &targets.targets(), &camera, None);
+            session.set_hair_visible(true);
+            bare?;
+            let bare = read_texture(&ctx, &targets.color)?;
             Ok((s_img, s_side, v_img, v_side, bare))
         })();
         pb.finish_and_clear();
@@ -323,8 +298,8 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let report = Report {
         width: size[0],
         height: size[1],
-        strands: asset.strand_count(),
-        segments: asset.segment_count(),
+        strands,
+        segments,
         adapter: ctx.adapter_info.name.clone(),
         rows,
     };
@@ -348,20 +323,6 @@ pub(crate) fn run(args: Args) -> Result<()> {
             ms(&r.strands),
             ms(&r.volume)
         );
-    }
-    Ok(())
-}
-
-fn save(image: &LinearImage, path: &Path) -> Result<()> {
-    match path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .as_deref()
-    {
-        Some("png") => image.save_png(path)?,
-        Some("exr") => image.save_exr(path)?,
-        _ => bail!("{}: the output must end in .png or .exr", path.display()),
     }
     Ok(())
 }

@@ -4,30 +4,33 @@
 //! pixel's k-buffer composite is replaced by every fragment sorted by depth and blended in order
 //! (`PpllFragments::sort_exactly`).
 
-use anyhow::{Context, Result, bail};
-use tress_render::scene_setup::PreparedScene;
+use anyhow::{Result, bail};
+use tress_render::session::{FrameDetail, Session, SessionFrame, TechniqueKind};
 use tress_render::strands::OitKind;
-use tress_render::{FrameStats, GpuContext, LinearImage, read_texture};
-use tress_scene::Scene;
+use tress_render::{GpuContext, LinearImage};
+
 /// Settings `--exact-oit` puts before the command line's `--set`s: the PPLL, with a pool cap as
 /// large as the device's bindings allow.
 pub(crate) const SETS: [&str; 2] = ["strands.oit=\"ppll\"", "strands.ppll_max_mib=4096"];
 
-/// Render the exact reference of a strand frame.
+/// Render the exact reference of the session's strand frame at `size`.
 pub(crate) fn render(
     ctx: &GpuContext,
-    scene: &Scene,
-    prepared: &PreparedScene,
+    session: &mut Session,
     size: [u32; 2],
-) -> Result<(LinearImage, FrameStats)> {
-    if scene.technique != "strands" {
+) -> Result<(LinearImage, SessionFrame)> {
+    if session.technique_kind() != TechniqueKind::Strands {
         bail!(
             "--exact-oit composites strand fragments: it needs technique `strands`, not `{}`",
-            scene.technique
+            session.technique()
         );
     }
-    let (renderer, targets, stats) = super::render::draw_frame(ctx, scene, prepared, size)?;
-    match stats.gpu.as_ref().and_then(|g| g.oit) {
+    let (mut image, frame) = super::render::render_frame(ctx, session, size)?;
+    let oit = match &frame.detail {
+        FrameDetail::Strands(stats) => stats.gpu.as_ref().and_then(|g| g.oit),
+        _ => None,
+    };
+    match oit {
         Some(o) if o.kind == OitKind::Ppll && o.lost == 0 => {}
         Some(o) if o.kind == OitKind::Ppll => bail!(
             "--exact-oit: the PPLL pool could not hold the frame ({} of {} fragments lost); \
@@ -37,10 +40,8 @@ pub(crate) fn render(
         ),
         _ => bail!("--exact-oit: the frame was not drawn with the PPLL"),
     }
-    let mut image = read_texture(ctx, &targets.color).context("reading the frame back")?;
-    let fragments = renderer
-        .ppll_fragments(ctx)?
-        .context("--exact-oit: the renderer kept no PPLL lists")?;
-    fragments.sort_exactly(&mut image, prepared.strands.k as usize);
-    Ok((image, stats))
+    if !session.sort_exactly(ctx, &mut image)? {
+        bail!("--exact-oit: the renderer kept no PPLL lists");
+    }
+    Ok((image, frame))
 }

@@ -4,11 +4,9 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use tress_render::scene_setup::SatfScene;
-use tress_render::session::DatabaseLoader;
 use tress_viewer::ViewerOptions;
 
-use super::satf_bake::database_for_render;
+use super::open::satf_loader;
 
 /// Arguments of `tress view`.
 #[derive(clap::Args, Debug)]
@@ -37,16 +35,6 @@ pub(crate) struct Args {
     screenshot: Option<PathBuf>,
 }
 
-/// The SATF database of a scene's settings: its file, baked there (or in the cache) on first
-/// use, as `tress render --technique satf` finds it.
-fn satf_loader() -> DatabaseLoader {
-    Box::new(|s: &SatfScene| {
-        database_for_render(s.database.as_deref(), &s.bake, s.bake_explicit)
-            .map(|(db, _)| db)
-            .map_err(Into::into)
-    })
-}
-
 pub(crate) fn run(args: Args) -> Result<()> {
     let report = tress_viewer::run(ViewerOptions {
         inputs: args.inputs,
@@ -55,7 +43,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
         overrides: args.sets,
         frames: args.frames,
         screenshot: args.screenshot.clone(),
-        satf_database: Some(satf_loader()),
+        satf_database: Some(satf_loader(None)),
     })
     .context("view")?;
     println!("tress view: {report}");

@@ -129,6 +129,20 @@ struct SatfPath {
     geometry: SatfGeometry,
     database: SatfDatabase,
     settings: SatfScene,
+    clusters_ms: f64,
+}
+
+/// What the `satf` technique was prepared with (see [`Session::satf`]).
+#[derive(Clone, Copy, Debug)]
+pub struct SatfInfo<'a> {
+    /// The scene's `[satf]` settings.
+    pub settings: &'a SatfScene,
+    /// The clusters uploaded (their counts: [`SatfGeometry::stats`]).
+    pub geometry: &'a SatfGeometry,
+    /// The HRIR database uploaded.
+    pub database: &'a SatfDatabase,
+    /// CPU milliseconds spent fitting or generating the clusters.
+    pub clusters_ms: f64,
 }
 
 /// A scene loaded for rendering with any technique (see the module docs).
@@ -398,7 +412,9 @@ impl Session {
                     invalid("the satf technique needs an HRIR database (none was given)")
                 })?;
                 let db = loader(&settings).map_err(RenderError::Database)?;
+                let start = Instant::now();
                 let volume = load_clusters(&self.scene, &settings, self.prepared.hair.as_ref())?;
+                let clusters_ms = start.elapsed().as_secs_f64() * 1e3;
                 let database = SatfDatabase::new(ctx, &db)?;
                 let geometry = SatfGeometry::new(ctx, &volume, &database, &settings.settings)?;
                 let mut renderer = SatfRenderer::new(ctx, self.formats, settings.settings)?;
@@ -408,6 +424,7 @@ impl Session {
                     geometry,
                     database,
                     settings,
+                    clusters_ms,
                 });
             }
             TechniqueKind::Strands | TechniqueKind::Volume | TechniqueKind::Hybrid => {
@@ -437,6 +454,43 @@ impl Session {
     /// The SATF settings in use, once the `satf` technique has been prepared.
     pub fn satf_settings(&self) -> Option<&SatfScene> {
         self.satf.as_ref().map(|s| &s.settings)
+    }
+
+    /// What the `satf` technique was prepared with, once it has been.
+    pub fn satf(&self) -> Option<SatfInfo<'_>> {
+        self.satf.as_ref().map(|s| SatfInfo {
+            settings: &s.settings,
+            geometry: &s.geometry,
+            database: &s.database,
+            clusters_ms: s.clusters_ms,
+        })
+    }
+
+    /// The hair cards, once the `patches` technique has been prepared.
+    pub fn patch_scene(&self) -> Option<&PatchScene> {
+        self.patches.as_ref().map(|p| &p.scene)
+    }
+
+    /// Move the hair's vertices to those of `asset` (animated hair: same strands and vertex
+    /// counts as the loaded hair). The strands, volume and hybrid techniques draw the moved hair
+    /// from the next frame on, the volume voxelized again; the other techniques keep what they
+    /// built from the loaded hair, so this is an error while one of them is current.
+    pub fn update_hair_positions(
+        &mut self,
+        ctx: &GpuContext,
+        asset: &tress_hair::HairAsset,
+    ) -> Result<(), RenderError> {
+        if !self.technique.draws_strands() {
+            return Err(invalid(format!(
+                "moving hair is drawn by the strands, volume and hybrid techniques, not `{}`",
+                self.technique
+            )));
+        }
+        self.prepare(ctx)?;
+        match self.strands.as_mut().and_then(|s| s.hair.as_mut()) {
+            Some(hair) => hair.update_positions(ctx, asset),
+            None => Err(invalid("the scene has no hair to move")),
+        }
     }
 
     /// Turn `image`, the last strand frame read back, into that frame as exact sorted

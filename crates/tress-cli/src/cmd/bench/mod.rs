@@ -19,16 +19,16 @@ mod sweeps;
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
-use tress_render::session::{Session, SessionOptions};
-use tress_render::{COLOR_FORMAT, GpuContext, OffscreenTargets, TargetFormats};
+use tress_render::session::Session;
+use tress_render::{COLOR_FORMAT, GpuContext, OffscreenTargets};
 use tress_scene::Scene;
 
 use self::chart::tick;
 use self::measure::{camera_at, measure};
 use self::report::Row;
 use self::sweeps::{SWEEPS, Sweep, sweep};
+use super::open::open_session;
 use super::render::base_scene;
-use super::satf_bake::database_for_render;
 use crate::progress;
 
 /// The share of the scene's strands a `--quick` run draws.
@@ -118,35 +118,13 @@ pub(crate) struct Run {
 impl Run {
     /// A session on the run's scene with its overrides.
     pub(crate) fn session(&self) -> Result<Session> {
-        open_session(&self.ctx, &self.scene, self.auto_frame, self.sets.clone())
-    }
-}
-
-/// A session on `scene` with `overrides`, SATF databases from the file or cache (baked on first
-/// use, as `tress render` does).
-pub(crate) fn open_session(
-    ctx: &GpuContext,
-    scene: &Scene,
-    auto_frame: bool,
-    overrides: Vec<String>,
-) -> Result<Session> {
-    {
-        let options = SessionOptions {
-            auto_frame,
-            overrides,
-            satf_database: Some(Box::new(|s| {
-                database_for_render(s.database.as_deref(), &s.bake, s.bake_explicit)
-                    .map(|(db, _)| db)
-                    .map_err(Into::into)
-            })),
-            ..SessionOptions::default()
-        };
-        Ok(Session::new(
-            ctx,
-            TargetFormats::default(),
-            scene.clone(),
-            options,
-        )?)
+        open_session(
+            &self.ctx,
+            &self.scene,
+            self.auto_frame,
+            self.sets.clone(),
+            None,
+        )
     }
 }
 

@@ -25,10 +25,11 @@ use tress_render::{COLOR_FORMAT, LinearImage, OffscreenTargets};
 use tress_scene::Scene;
 use tress_trace::{Aov, DisplayImage, Image, TraceSettings, metrics};
 
+use super::Run;
 use super::measure::{camera_at, coverage_pct, hair_mask, scene_at};
 use super::report::write;
 use super::silhouette::{self, DILATION, Silhouette};
-use super::{Run, open_session};
+use crate::cmd::open::open_session;
 use crate::progress;
 
 /// The example scenes measured when no input is given (all generated hair, no download).
@@ -194,12 +195,13 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>, select: &Select<'_>)
         let mut scene = scene.clone();
         scene.output.width = size[0];
         scene.output.height = size[1];
-        let mut session = open_session(&run.ctx, &scene, *auto_frame, Vec::new())?;
+        let mut session = open_session(&run.ctx, &scene, *auto_frame, Vec::new(), None)?;
         let mut headless = open_session(
             &run.ctx,
             &silhouette::without_head(&scene),
             *auto_frame,
             Vec::new(),
+            None,
         )?;
         for &d in distances {
             let tag = format!("{}-d{d}", slug(name));
