@@ -51,7 +51,7 @@ impl PreparedScene {
             // USD grooms often carry the head they were groomed on.
             HeadSource::None => hair_mesh,
             HeadSource::Obj(path) => Some(read_obj_mesh(&path)?),
-            HeadSource::Generated(head, shape) => Some(shape.mesh(&head, 64)),
+            HeadSource::Generated(g) => Some(g.mesh(64)),
         };
         Ok(PreparedScene {
             hair,

@@ -214,6 +214,16 @@ pub struct HairVolume {
 }
 
 impl HairVolume {
+    /// Move every cluster by `affine` (a similarity, as scene transforms are): each cluster's
+    /// placement becomes `affine · placement`.
+    pub fn transform(&mut self, affine: Affine3A) {
+        for m in &mut self.macro_clusters {
+            for c in &mut m.clusters {
+                c.transform = affine * c.transform;
+            }
+        }
+    }
+
     /// Every cluster with its geometry.
     pub fn clusters(&self) -> impl Iterator<Item = (&GeneralizedCylinder, &Cluster)> + '_ {
         self.macro_clusters

@@ -45,7 +45,7 @@ mod technique;
 pub use error::SceneError;
 pub use material::{DEFAULT_EUMELANIN, DEFAULT_PHEOMELANIN, Material};
 pub use parts::{Camera, FollowSpec, GeneratorSpec, HairSpec, HeadSpec, Light, Output, Transform};
-pub use scene::{HeadSource, Scene};
+pub use scene::{GeneratedHead, HeadSource, Scene};
 pub use technique::{TECHNIQUES, TechniqueKind, UnknownTechnique};
 
 #[cfg(test)]

@@ -526,7 +526,10 @@ mod follow_radius {
 ///
 /// `center` and `radii` shape the generated head; absent, they are those of the ellipsoid the
 /// first generated hair entry grows from ([`tress_hair::generate::head_for`]), or of the default
-/// head when no entry is generated. Hair transforms do not move the head.
+/// head when no entry is generated. The generated head is placed by the `transform` of that
+/// first generated hair entry, so it moves with its hair (and so do the cards and SATF clusters
+/// generated on it); a mesh given by `obj` is in world space, and meshes that came in USD hair
+/// files move with their entry's transform.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct HeadSpec {

@@ -4,7 +4,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{Affine3A, Vec3};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use toml::de::{DeTable, ValueDeserializer};
@@ -118,8 +118,35 @@ pub enum HeadSource {
     /// A mesh file at this path (resolved against the scene's folder): OBJ, glTF or USD, read
     /// with [`tress_hair::formats::read_mesh`].
     Obj(PathBuf),
-    /// The generated head: the ellipsoid and what it is drawn as.
-    Generated(Head, HeadShape),
+    /// The generated head (see [`GeneratedHead`]).
+    Generated(GeneratedHead),
+}
+
+/// The generated head: an ellipsoid, what it is drawn as, and where it is placed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GeneratedHead {
+    /// The ellipsoid, in the space the hair generator grows strands from.
+    pub head: Head,
+    /// What it is drawn as.
+    pub shape: HeadShape,
+    /// The transform of the `[[hair]]` entry whose generator the head was made for (the first
+    /// one with a generator; the identity without one), so the head moves with its hair.
+    pub placement: Affine3A,
+}
+
+impl GeneratedHead {
+    /// The placed head's triangle mesh ([`HeadShape::mesh`] with `subdivisions`, then moved by
+    /// the placement).
+    pub fn mesh(&self, subdivisions: u32) -> TriMesh {
+        let mut mesh = self.shape.mesh(&self.head, subdivisions);
+        mesh.transform(self.placement);
+        mesh
+    }
+
+    /// The placed head's centre.
+    pub fn center(&self) -> Vec3 {
+        self.placement.transform_point3(self.head.center)
+    }
 }
 
 impl Scene {
@@ -267,10 +294,11 @@ impl Scene {
         if self.head.generated == Some(false) {
             return HeadSource::None;
         }
-        let style = self
-            .hair
-            .iter()
-            .find_map(|h| h.generator.as_ref()?.style.parse::<Style>().ok());
+        let generated = self.hair.iter().find_map(|h| {
+            let style = h.generator.as_ref()?.style.parse::<Style>().ok()?;
+            Some((style, h.transform.affine()))
+        });
+        let style = generated.map(|(s, _)| s);
         let base = style.map(generate::head_for).unwrap_or_default();
         let shape = self
             .head
@@ -278,13 +306,14 @@ impl Scene {
             .as_deref()
             .and_then(|s| s.parse().ok())
             .unwrap_or_else(|| style.map(generate::shape_for).unwrap_or_default());
-        HeadSource::Generated(
-            Head {
+        HeadSource::Generated(GeneratedHead {
+            head: Head {
                 center: self.head.center.unwrap_or(base.center),
                 radii: self.head.radii.unwrap_or(base.radii),
             },
             shape,
-        )
+            placement: generated.map_or(Affine3A::IDENTITY, |(_, a)| a),
+        })
     }
 
     /// Read or generate every `[[hair]]` entry, in order: the files (merged) or the generator,

@@ -376,15 +376,23 @@ fn transform_rotates_about_x_then_y_then_z() {
 fn head_source_follows_the_head_table() {
     assert_eq!(
         Scene::default().head_source(),
-        HeadSource::Generated(Head::default(), HeadShape::Face)
+        HeadSource::Generated(GeneratedHead {
+            head: Head::default(),
+            shape: HeadShape::Face,
+            placement: glam::Affine3A::IDENTITY
+        })
     );
     let fur = parse("[[hair]]\ngenerator = { style = \"fur\" }\n").unwrap();
     assert_eq!(
         fur.head_source(),
-        HeadSource::Generated(head_for(Style::Fur), HeadShape::Ellipsoid)
+        HeadSource::Generated(GeneratedHead {
+            head: head_for(Style::Fur),
+            shape: HeadShape::Ellipsoid,
+            placement: glam::Affine3A::IDENTITY
+        })
     );
     let sized = parse("[head]\nradii = [1, 2, 3]\n").unwrap();
-    let HeadSource::Generated(h, _) = sized.head_source() else {
+    let HeadSource::Generated(GeneratedHead { head: h, .. }) = sized.head_source() else {
         panic!()
     };
     assert_eq!(
@@ -397,7 +405,10 @@ fn head_source_follows_the_head_table() {
             .unwrap();
     assert!(matches!(
         bare.head_source(),
-        HeadSource::Generated(_, HeadShape::Ellipsoid)
+        HeadSource::Generated(GeneratedHead {
+            shape: HeadShape::Ellipsoid,
+            ..
+        })
     ));
     let err = parse("[head]\nshape = \"sphere\"\n")
         .unwrap_err()
@@ -475,4 +486,49 @@ fn follow_radius_in_world_units_or_times_the_spacing() {
     let text = s.to_toml_string().unwrap();
     assert!(text.contains("root_radius = \"0.5x\""), "{text}");
     assert_eq!(parse(&text).unwrap(), s);
+}
+
+/// Where `p` lies relative to the ellipsoid `head`: 1 on its surface (the norm of the point in
+/// the unit sphere the ellipsoid is stretched from).
+fn ellipsoid_radius(head: &Head, p: Vec3) -> f32 {
+    ((p - head.center) / head.radii).length()
+}
+
+#[test]
+fn a_hair_transform_moves_the_generated_head_with_its_hair() {
+    let style =
+        "[[hair]]\ngenerator = { style = \"fur\", strands = 300, vertices = 4, seed = 2 }\n";
+    let moved = format!(
+        "{style}transform = {{ translate = [0.3, -1.0, 2.0], rotate_deg = [10.0, 90.0, 20.0], scale = 2.0 }}\n"
+    );
+    for (text, identity) in [(style.to_string(), true), (moved, false)] {
+        let scene = parse(&text).unwrap();
+        let HeadSource::Generated(g) = scene.head_source() else {
+            panic!("generated head expected")
+        };
+        assert_eq!(g.placement == glam::Affine3A::IDENTITY, identity);
+        // The fur's roots grow on its ellipsoid; moved with the hair, they stay on the placed
+        // head: mapped back by the placement, each lies on the unplaced ellipsoid.
+        let hair = &scene.load_hair().unwrap()[0];
+        let back = g.placement.inverse();
+        for s in 0..hair.strand_count() {
+            let root = back.transform_point3(hair.strand(s)[0]);
+            let r = ellipsoid_radius(&g.head, root);
+            assert!((r - 1.0).abs() < 0.02, "strand {s}: root at {r} head radii");
+        }
+        // And the mesh drawn is the placed one: its vertices map back onto the ellipsoid.
+        let mesh = g.mesh(16);
+        let unplaced = g.shape.mesh(&g.head, 16);
+        for (p, q) in mesh.positions.iter().zip(&unplaced.positions) {
+            assert!(back.transform_point3(*p).distance(*q) < 1e-4);
+        }
+        assert!(
+            g.center()
+                .distance(g.placement.transform_point3(g.head.center))
+                < 1e-6
+        );
+        if !identity {
+            assert!(g.center().distance(g.head.center) > 1.0, "the head moved");
+        }
+    }
 }

@@ -274,6 +274,17 @@ impl TriMesh {
         self.indices.len() / 3
     }
 
+    /// Move the mesh by `affine`, a similarity (rotation, uniform scale, translation, as scene
+    /// transforms are): positions mapped, normals turned and renormalized.
+    pub fn transform(&mut self, affine: glam::Affine3A) {
+        for p in &mut self.positions {
+            *p = affine.transform_point3(*p);
+        }
+        for n in &mut self.normals {
+            *n = affine.transform_vector3(*n).normalize_or(*n);
+        }
+    }
+
     /// The mesh as Wavefront OBJ text: `v` and `vn` lines, then one `f v//vn` line per triangle
     /// (indices 1-based, as OBJ counts them).
     pub fn to_obj(&self) -> String {

@@ -186,6 +186,18 @@ impl PatchMesh {
         self.component_count as usize
     }
 
+    /// Move the mesh by `affine`, a similarity (rotation, uniform scale, translation, as scene
+    /// transforms are): positions mapped, normals and tangents turned and renormalized; AO,
+    /// texture coordinates and components are unchanged.
+    pub fn transform(&mut self, affine: glam::Affine3A) {
+        for p in &mut self.positions {
+            *p = affine.transform_point3(*p);
+        }
+        for v in self.normals.iter_mut().chain(&mut self.tangents) {
+            *v = affine.transform_vector3(*v).normalize_or(*v);
+        }
+    }
+
     /// Vertex positions.
     pub fn positions(&self) -> &[Vec3] {
         &self.positions

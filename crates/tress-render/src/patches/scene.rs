@@ -44,7 +44,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use glam::Vec3;
+use glam::{Affine3A, Vec3};
 use serde::Deserialize;
 use tress_hair::HairAsset;
 use tress_hair::generate::Head;
@@ -325,17 +325,21 @@ pub fn load_patches(scene: &Scene, prepared: &PreparedScene) -> Result<PatchScen
     let settings = patch_settings(scene)?;
     let source = patch_source(scene)?;
     let head_center = match scene.head_source() {
-        HeadSource::Generated(h, _) => Some(h.center),
+        HeadSource::Generated(g) => Some(g.center()),
         _ => prepared.head.as_ref().map(|h| h.bounding_sphere().0),
     };
     let mut mesh = match &source {
         PatchSource::Obj(path) => PatchMesh::read_obj(path)?,
         PatchSource::Generated => {
-            let head = match scene.head_source() {
-                HeadSource::Generated(h, _) => h,
-                _ => Head::default(),
+            // Cards grow on the generated head where it is placed (the default head without
+            // one).
+            let (head, placement) = match scene.head_source() {
+                HeadSource::Generated(g) => (g.head, g.placement),
+                _ => (Head::default(), Affine3A::IDENTITY),
             };
-            generate_patches(&generator_params(&t.generator, head))?
+            let mut mesh = generate_patches(&generator_params(&t.generator, head))?;
+            mesh.transform(placement);
+            mesh
         }
         PatchSource::Strands => {
             let hair: &HairAsset = prepared.hair.as_ref().ok_or_else(|| {
@@ -446,6 +450,38 @@ mod tests {
     }
 
     #[test]
+    fn generated_cards_move_with_the_generated_head() {
+        let text = "[[hair]]\ngenerator = { style = \"straight\", strands = 10 }\n\
+                    [patches]\nsource = \"generated\"\n\
+                    generator = { layers = 2, patches_per_layer = 6, segments = 3 }\n\
+                    ao = { rays = 2 }\ntextures = { width = 8, height = 8, strands = 2 }\n";
+        let moved = text.replace(
+            "strands = 10 }\n",
+            "strands = 10 }\ntransform = { translate = [1.0, 2.0, -3.0], rotate_deg = [30.0, 0.0, 10.0], scale = 0.5 }\n",
+        );
+        let load = |t: &str| {
+            let scene = Scene::from_str(t, ".").unwrap();
+            let prepared = PreparedScene::load(&scene).unwrap();
+            let HeadSource::Generated(g) = scene.head_source() else {
+                panic!("generated head expected")
+            };
+            (load_patches(&scene, &prepared).unwrap(), g)
+        };
+        let (rest, _) = load(text);
+        let (placed, head) = load(&moved);
+        assert_eq!(placed.source, PatchSource::Generated);
+        assert_eq!(rest.mesh.positions().len(), placed.mesh.positions().len());
+        for (a, b) in rest.mesh.positions().iter().zip(placed.mesh.positions()) {
+            assert!(head.placement.transform_point3(*a).distance(*b) < 1e-4);
+        }
+        for (a, b) in rest.mesh.normals().iter().zip(placed.mesh.normals()) {
+            let turned = head.placement.transform_vector3(*a).normalize();
+            assert!(turned.distance(*b) < 1e-4);
+        }
+        assert!(placed.sort_center.distance(head.center()) < 1e-5);
+    }
+
+    #[test]
     fn generated_source_loads_with_ao_and_sorts_around_the_head() {
         let text = "[patches]\ngenerator = { layers = 2, patches_per_layer = 8, segments = 3 }\n\
                     ao = { rays = 4 }\ntextures = { width = 16, height = 16, strands = 4 }\n";
@@ -456,10 +492,10 @@ mod tests {
         assert_eq!(p.mesh.component_count(), 16);
         assert!(p.ao_bake_seconds.is_some());
         assert!(p.mesh.ao().iter().any(|&a| a < 1.0));
-        let HeadSource::Generated(head, _) = scene.head_source() else {
+        let HeadSource::Generated(head) = scene.head_source() else {
             panic!("generated head expected");
         };
-        assert_eq!(p.sort_center, head.center);
+        assert_eq!(p.sort_center, head.center());
         assert_eq!(p.textures.base.width, 16);
         assert!(!p.textures_from_files);
     }

@@ -55,7 +55,7 @@
 
 use std::path::PathBuf;
 
-use glam::Vec3;
+use glam::{Affine3A, Vec3};
 use serde::Deserialize;
 use tress_hair::HairAsset;
 use tress_hair::generate::Head;
@@ -334,12 +334,16 @@ pub fn load_clusters(
             fit_clusters(hair, &fit).map_err(|e| RenderError::setting("satf: fitting clusters", e))
         }
         ClusterSource::Generate(style) => {
-            let head = match scene.head_source() {
-                HeadSource::Generated(h, _) => h,
-                _ => Head::default(),
+            // Clusters grow on the generated head where it is placed (the default head without
+            // one).
+            let (head, placement) = match scene.head_source() {
+                HeadSource::Generated(g) => (g.head, g.placement),
+                _ => (Head::default(), Affine3A::IDENTITY),
             };
-            generate_clusters(&head, &style)
-                .map_err(|e| RenderError::setting("satf: generating clusters", e))
+            let mut volume = generate_clusters(&head, &style)
+                .map_err(|e| RenderError::setting("satf: generating clusters", e))?;
+            volume.transform(placement);
+            Ok(volume)
         }
     }
 }
@@ -347,6 +351,37 @@ pub fn load_clusters(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn generated_clusters_move_with_the_generated_head() {
+        let text = "[[hair]]\ngenerator = { style = \"straight\", strands = 10 }\n\
+                    [satf]\nclusters = \"generate\"\n\
+                    generate = { macro_clusters = 3, clusters_per_macro = 2, strands_per_cluster = 4 }\n";
+        let moved = format!(
+            "{text}[hair.transform]\ntranslate = [1.0, 2.0, -3.0]\nrotate_deg = [0.0, 45.0, 0.0]\nscale = 1.5\n"
+        );
+        let load = |t: &str| {
+            let scene = Scene::from_str(t, ".").unwrap();
+            let settings = satf_settings(&scene).unwrap();
+            let HeadSource::Generated(g) = scene.head_source() else {
+                panic!("generated head expected")
+            };
+            (load_clusters(&scene, &settings, None).unwrap(), g.placement)
+        };
+        let (rest, identity) = load(text);
+        let (placed, placement) = load(&moved);
+        assert_eq!(identity, Affine3A::IDENTITY);
+        assert_ne!(placement, Affine3A::IDENTITY);
+        let pairs: Vec<_> = rest.clusters().zip(placed.clusters()).collect();
+        assert_eq!(pairs.len(), 6);
+        for ((_, a), (_, b)) in pairs {
+            let expected = placement * a.transform();
+            assert!(
+                b.transform().abs_diff_eq(expected, 1e-5),
+                "each cluster is placed by the head's transform"
+            );
+        }
+    }
 
     #[test]
     fn table_overrides_defaults_and_names_bad_keys() {

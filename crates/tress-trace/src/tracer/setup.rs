@@ -135,9 +135,9 @@ impl SceneGeometry {
         let head = match scene.head_source() {
             HeadSource::None => None,
             HeadSource::Obj(path) => Some(TriMesh::read_obj(&path)?),
-            HeadSource::Generated(head, shape) => {
-                head.validate()?;
-                Some(shape.mesh(&head, HEAD_SUBDIVISIONS))
+            HeadSource::Generated(g) => {
+                g.head.validate()?;
+                Some(g.mesh(HEAD_SUBDIVISIONS))
             }
         };
         Ok(SceneGeometry { hair, head })
