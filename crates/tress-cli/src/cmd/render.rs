@@ -99,11 +99,12 @@ pub(crate) fn run(args: Args) -> Result<()> {
         args.height,
         &sets,
     )?;
-    let seq = (args.frames.is_some() || args.animate.is_some()).then(|| super::animate::Sequence {
-        frames: args.frames,
-        animate: args.animate.as_deref(),
-        json: args.json,
-    });
+    let seq =
+        (args.frames.is_some() || args.animate.is_some()).then_some(super::animate::Sequence {
+            frames: args.frames,
+            animate: args.animate.as_deref(),
+            json: args.json,
+        });
     if let Some(seq) = &seq {
         seq.check(scene.technique.parse()?)?;
     }
