@@ -26,10 +26,10 @@ use glam::Vec3;
 mod setup;
 
 use crate::bind::Layouts;
-use crate::gpu::types::{self, LightsUniform, VolumeParams};
+use crate::gpu::types::{self, VolumeParams};
 use crate::gpu::{GpuTimer, TargetFormats, Targets, clear_loads};
 use crate::head::{HeadGeometry, HeadPass};
-use crate::inputs::union_sphere;
+use crate::inputs::{frame_sphere, lights_uniform};
 use crate::lod::{FramePlan, HybridSettings, LodBlend, LodLayers, Technique};
 use crate::stats::{FrameStats, ReadbackRing, SlotInfo, StatsReadback, VolumeFrame};
 use crate::strands::oit::{OitInputs, StrandOit};
@@ -253,22 +253,12 @@ impl Renderer {
         let oit = oit_kind.map(|kind| (kind, self.oit.bytes(kind)));
 
         // ---- uniforms
-        let bounds = match (inputs.hair.map(|h| h.bounds), inputs.head.map(|h| h.bounds)) {
-            (Some(a), Some(b)) => Some(union_sphere(a, b)),
-            (a, b) => a.or(b),
-        };
-        let mut lights = LightsUniform {
-            ambient: inputs.ambient.to_array(),
-            count: inputs.lights.len() as u32,
-            ..Default::default()
-        };
-        let mut light_cameras = Vec::new();
-        for (i, light) in inputs.lights.iter().enumerate() {
-            let (center, radius) = bounds.unwrap_or((Vec3::ZERO, 1.0));
-            let (cam, range) = light.shadow_camera(center, radius, self.shadow.size())?;
-            lights.lights[i] = light.uniform(cam.clip_from_world(), range)?;
-            light_cameras.push(cam.uniform());
-        }
+        let bounds = frame_sphere(inputs.hair.map(|h| h.bounds), inputs.head.map(|h| h.bounds));
+        let (lights, light_cameras) = lights_uniform(
+            inputs.ambient,
+            inputs.lights,
+            Some((bounds, self.shadow.size())),
+        )?;
         let mut params = self.settings.params();
         if let Some(kind) = oit_kind {
             self.oit.fill_params(kind, &mut params);

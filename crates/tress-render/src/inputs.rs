@@ -5,7 +5,8 @@ use glam::{Mat4, Vec3};
 
 use crate::RenderError;
 use crate::gpu::types::{
-    self, CameraUniform, DualScatteringGpu, HairLightingGpu, LightUniform, MaterialUniform,
+    self, CameraUniform, DualScatteringGpu, HairLightingGpu, LightUniform, LightsUniform,
+    MaterialUniform,
 };
 
 /// A camera: view and projection matrices and the viewport they render to.
@@ -247,6 +248,51 @@ impl Material {
     }
 }
 
+/// The sphere around what a frame draws (the hair or cards, and the head), if anything.
+pub(crate) fn frame_sphere(a: Option<(Vec3, f32)>, b: Option<(Vec3, f32)>) -> Option<(Vec3, f32)> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(union_sphere(a, b)),
+        (a, b) => a.or(b),
+    }
+}
+
+/// A frame's lights uniform: `ambient` and `lights` (at most [`crate::MAX_LIGHTS`]). With
+/// `shadows = Some((sphere, size))` each light gets the shadow camera that frames `sphere` (the
+/// unit sphere at the origin without one) in a `size`² map, whose uniforms are returned beside;
+/// without, the lights carry no shadow transform (and no cameras are returned). The one place
+/// every renderer fills `struct Lights` from.
+pub(crate) fn lights_uniform(
+    ambient: Vec3,
+    lights: &[DirectionalLight],
+    shadows: Option<(Option<(Vec3, f32)>, u32)>,
+) -> Result<(LightsUniform, Vec<CameraUniform>), RenderError> {
+    if lights.len() > crate::MAX_LIGHTS {
+        return Err(RenderError::Invalid(format!(
+            "{} lights given, at most {} supported",
+            lights.len(),
+            crate::MAX_LIGHTS
+        )));
+    }
+    let mut uniform = LightsUniform {
+        ambient: ambient.to_array(),
+        count: lights.len() as u32,
+        ..Default::default()
+    };
+    let mut cameras = Vec::new();
+    for (i, light) in lights.iter().enumerate() {
+        uniform.lights[i] = match shadows {
+            Some((sphere, size)) => {
+                let (center, radius) = sphere.unwrap_or((Vec3::ZERO, 1.0));
+                let (cam, range) = light.shadow_camera(center, radius, size)?;
+                cameras.push(cam.uniform());
+                light.uniform(cam.clip_from_world(), range)?
+            }
+            None => light.uniform(Mat4::IDENTITY, 1.0)?,
+        };
+    }
+    Ok((uniform, cameras))
+}
+
 /// The sphere around two spheres (centre, radius).
 pub(crate) fn union_sphere(a: (Vec3, f32), b: (Vec3, f32)) -> (Vec3, f32) {
     let d = a.0.distance(b.0);
@@ -287,6 +333,30 @@ mod tests {
             ..cam
         };
         assert!(bad.validate().is_err());
+    }
+
+    #[test]
+    fn frame_lights_count_shadow_cameras_and_reject_too_many() {
+        let light = DirectionalLight {
+            direction: Vec3::new(0.0, -1.0, -1.0),
+            color: Vec3::ONE,
+            intensity: 2.0,
+        };
+        let sphere = Some((Vec3::new(1.0, 2.0, 3.0), 4.0));
+        let (u, cams) = lights_uniform(Vec3::splat(0.1), &[light; 2], Some((sphere, 256))).unwrap();
+        assert_eq!((u.count, u.ambient, cams.len()), (2, [0.1; 3], 2));
+        // The shadow camera looks at the sphere's centre: it projects to the map's middle.
+        let clip = Mat4::from_cols_array_2d(&u.lights[0].light_from_world)
+            * Vec3::new(1.0, 2.0, 3.0).extend(1.0);
+        assert!(clip.x.abs() < 1e-4 && clip.y.abs() < 1e-4, "{clip}");
+        let (u, cams) = lights_uniform(Vec3::ZERO, &[light], None).unwrap();
+        assert_eq!((u.count, cams.len()), (1, 0));
+        assert_eq!(u.lights[0].light_from_world, types::mat4(Mat4::IDENTITY));
+        let err = lights_uniform(Vec3::ZERO, &[light; crate::MAX_LIGHTS + 1], None).unwrap_err();
+        assert!(err.to_string().contains("lights given"), "{err}");
+        assert_eq!(frame_sphere(None, None), None);
+        assert_eq!(frame_sphere(sphere, None), sphere);
+        assert_eq!(frame_sphere(None, sphere), sphere);
     }
 
     #[test]

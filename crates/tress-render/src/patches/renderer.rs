@@ -316,14 +316,8 @@ impl PatchRenderer {
         }
 
         // ---- uniforms
-        let mut lights = LightsUniform {
-            ambient: inputs.ambient.to_array(),
-            count: inputs.lights.len() as u32,
-            ..Default::default()
-        };
-        for (i, light) in inputs.lights.iter().enumerate() {
-            lights.lights[i] = light.uniform(glam::Mat4::IDENTITY, 1.0)?;
-        }
+        // Patches cast no shadows: the lights carry no shadow transform.
+        let (lights, _) = crate::inputs::lights_uniform(inputs.ambient, inputs.lights, None)?;
         let head_color = inputs.head_color.extend(1.0).to_array();
         let q = &ctx.queue;
         q.write_buffer(

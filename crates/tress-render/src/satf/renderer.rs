@@ -30,7 +30,7 @@ use crate::gpu::GpuTimer;
 use crate::gpu::types::{CameraUniform, LightsUniform, SatfParams};
 use crate::gpu::{PassTiming, TargetFormats, Targets, Timings, clear_loads, uniform_buffer};
 use crate::head::HeadGeometry;
-use crate::inputs::union_sphere;
+use crate::inputs::{frame_sphere, lights_uniform};
 use crate::stats::{ReadbackRing, SlotInfo, StatsReadback};
 use crate::{Camera, DirectionalLight, GpuContext, RenderError};
 
@@ -346,22 +346,12 @@ impl SatfRenderer {
         }
 
         // ---- uniforms and the back-to-front order
-        let bounds = match (geometry.map(|g| g.bounds), inputs.head.map(|h| h.bounds)) {
-            (Some(a), Some(b)) => Some(union_sphere(a, b)),
-            (a, b) => a.or(b),
-        };
-        let mut lights = LightsUniform {
-            ambient: inputs.ambient.to_array(),
-            count: inputs.lights.len() as u32,
-            ..Default::default()
-        };
-        let mut light_cameras = Vec::new();
-        for (i, light) in inputs.lights.iter().enumerate() {
-            let (center, radius) = bounds.unwrap_or((Vec3::ZERO, 1.0));
-            let (cam, range) = light.shadow_camera(center, radius, self.shadow_targets.size)?;
-            lights.lights[i] = light.uniform(cam.clip_from_world(), range)?;
-            light_cameras.push(cam.uniform());
-        }
+        let bounds = frame_sphere(geometry.map(|g| g.bounds), inputs.head.map(|h| h.bounds));
+        let (lights, light_cameras) = lights_uniform(
+            inputs.ambient,
+            inputs.lights,
+            Some((bounds, self.shadow_targets.size)),
+        )?;
         let params = self.params(geometry, db, lights.count, inputs.head_color);
         let order = geometry.map_or_else(Vec::new, |g| {
             back_to_front(&inputs.camera, &g.cluster_bounds)
@@ -541,7 +531,5 @@ mod tests {
             (Vec3::ZERO, 1.0),
         ];
         assert_eq!(back_to_front(&cam, &bounds), vec![1, 2, 0]);
-        let (c, r) = union_sphere((Vec3::ZERO, 1.0), (Vec3::new(4.0, 0.0, 0.0), 1.0));
-        assert!((c.x - 2.0).abs() < 1e-6 && (r - 3.0).abs() < 1e-6);
     }
 }
