@@ -38,7 +38,7 @@ use crate::strands::{
 };
 use crate::volume::raymarch::RaymarchInputs;
 use crate::volume::{Raymarch, ShadowMode, VolumeSettings, Voxelizer};
-use crate::{Camera, DirectionalLight, GpuContext, MAX_LIGHTS, Material, RenderError};
+use crate::{Camera, DirectionalLight, GpuContext, Material, RenderError};
 
 /// Most renders of one frame when PPLL fragments were dropped (see [`Renderer::render`]).
 pub const MAX_ATTEMPTS: u32 = 4;
@@ -62,7 +62,7 @@ pub const PASS_NAMES: &[&str] = &[
 pub struct FrameInputs<'a> {
     /// The camera; its viewport must equal the targets' size.
     pub camera: Camera,
-    /// Directional lights (at most [`MAX_LIGHTS`]).
+    /// Directional lights (at most [`crate::MAX_LIGHTS`]).
     pub lights: &'a [DirectionalLight],
     /// Ambient light, linear RGB.
     pub ambient: Vec3,
@@ -141,20 +141,7 @@ impl Renderer {
         inputs: &FrameInputs<'_>,
     ) -> Result<FrameStats, RenderError> {
         // ---- validate inputs (never panic on user data)
-        let size = targets.validate(self.formats)?;
-        inputs.camera.validate()?;
-        if inputs.camera.viewport != size {
-            return Err(RenderError::Target(format!(
-                "camera viewport {:?} differs from the target size {size:?}",
-                inputs.camera.viewport
-            )));
-        }
-        if inputs.lights.len() > MAX_LIGHTS {
-            return Err(RenderError::Invalid(format!(
-                "{} lights given, at most {MAX_LIGHTS} supported",
-                inputs.lights.len()
-            )));
-        }
+        let size = targets.validate_view(self.formats, &inputs.camera, inputs.lights.len())?;
         inputs.material.validate()?;
         if !inputs.ambient.is_finite() {
             return Err(RenderError::Invalid("ambient light is not finite".into()));

@@ -256,6 +256,17 @@ pub(crate) fn frame_sphere(a: Option<(Vec3, f32)>, b: Option<(Vec3, f32)>) -> Op
     }
 }
 
+/// At most [`crate::MAX_LIGHTS`] lights, or the error every renderer gives.
+pub(crate) fn check_light_count(lights: usize) -> Result<(), RenderError> {
+    if lights > crate::MAX_LIGHTS {
+        return Err(RenderError::Invalid(format!(
+            "{lights} lights given, at most {} supported",
+            crate::MAX_LIGHTS
+        )));
+    }
+    Ok(())
+}
+
 /// A frame's lights uniform: `ambient` and `lights` (at most [`crate::MAX_LIGHTS`]). With
 /// `shadows = Some((sphere, size))` each light gets the shadow camera that frames `sphere` (the
 /// unit sphere at the origin without one) in a `size`² map, whose uniforms are returned beside;
@@ -266,13 +277,7 @@ pub(crate) fn lights_uniform(
     lights: &[DirectionalLight],
     shadows: Option<(Option<(Vec3, f32)>, u32)>,
 ) -> Result<(LightsUniform, Vec<CameraUniform>), RenderError> {
-    if lights.len() > crate::MAX_LIGHTS {
-        return Err(RenderError::Invalid(format!(
-            "{} lights given, at most {} supported",
-            lights.len(),
-            crate::MAX_LIGHTS
-        )));
-    }
+    check_light_count(lights.len())?;
     let mut uniform = LightsUniform {
         ambient: ambient.to_array(),
         count: lights.len() as u32,

@@ -15,7 +15,7 @@ use tress_render::{
 };
 use tress_satf::generate::{ClusterStyle, generate_clusters};
 use tress_satf::online::blend_layers;
-use tress_satf::{Cluster, HairVolume, MacroCluster, ShellSampling};
+use tress_satf::{Cluster, HairVolume, MacroCluster};
 
 const SIZE: u32 = 64;
 
@@ -152,16 +152,8 @@ fn two_clusters_at_known_depths_blend_as_equation_14() {
         db: SatfDatabase::new(&ctx, &common::small_satf_database(48)).expect("database"),
         ctx,
         settings: SatfSettings {
-            sampling: ShellSampling {
-                st: 6,
-                sv: 4,
-                su: 5,
-                core_rings: 1,
-            },
-            map_rows: 3,
-            shadow_map_size: 128,
             cluster_shadows: false,
-            ..Default::default()
+            ..common::small_satf_settings()
         },
         camera,
         lights: [DirectionalLight {

@@ -18,7 +18,7 @@ use tress_satf::database::{BakeSettings, Database, bake, is_uniform, params_dist
 use tress_satf::generate::{ClusterStyle, generate_clusters};
 use tress_satf::hrir::{self, HrirSettings};
 use tress_satf::online::{self, ShadowApprox};
-use tress_satf::{HairVolume, ShellSampling, shell};
+use tress_satf::{HairVolume, shell};
 
 fn small_db(pixels: u32) -> Database {
     let s = BakeSettings {
@@ -47,14 +47,6 @@ fn volume() -> HairVolume {
 
 fn settings() -> SatfSettings {
     SatfSettings {
-        sampling: ShellSampling {
-            st: 6,
-            sv: 4,
-            su: 5,
-            core_rings: 1,
-        },
-        map_rows: 3,
-        shadow_map_size: 128,
         k_shadow: 0.9,
         // Sparse test clusters: sectors differ by about 1 in equation 6's norm; this threshold
         // makes both outcomes occur.
@@ -62,7 +54,7 @@ fn settings() -> SatfSettings {
             k_threshold: 1.0,
             ..Default::default()
         },
-        ..Default::default()
+        ..common::small_satf_settings()
     }
 }
 

@@ -378,14 +378,8 @@ impl Scene {
                 asset = asset.with_thickness(scaled)?;
             }
             // A uniform scale and a rotation: normals turn with the rotation alone.
-            let affine = spec.transform.affine();
             for m in &mut meshes {
-                for p in &mut m.positions {
-                    *p = affine.transform_point3(*p);
-                }
-                for n in &mut m.normals {
-                    *n = affine.transform_vector3(*n).normalize_or(*n);
-                }
+                m.transform(spec.transform.affine());
             }
         }
         Ok((asset, meshes))

@@ -86,8 +86,6 @@ impl Report {
                     dropped: ppll.map_or(0, |p| p.dropped),
                     bytes: stats.ppll_bytes,
                 };
-                report.width = stats.size[0];
-                report.height = stats.size[1];
                 report.volume = volume_report(stats);
                 report.oit = OitReport::from_stats(stats);
             }

@@ -1,7 +1,7 @@
 //! Render targets: the caller's views ([`Targets`]) and an offscreen pair for headless rendering
 //! ([`OffscreenTargets`]).
 
-use crate::{Camera, GpuContext, MAX_LIGHTS, RenderError};
+use crate::{Camera, GpuContext, RenderError};
 
 /// Default color format of offscreen targets: linear half floats. Hair is many thin, partly
 /// transparent layers blended together, so blending in linear space with more than 8 bits per
@@ -86,7 +86,7 @@ impl Targets<'_> {
     }
 
     /// What every renderer checks first in a frame: the targets (see [`Targets::validate`]), a
-    /// valid camera whose viewport is the targets' size, and at most [`MAX_LIGHTS`] lights.
+    /// valid camera whose viewport is the targets' size, and at most [`crate::MAX_LIGHTS`] lights.
     /// Returns the size in pixels.
     pub(crate) fn validate_view(
         &self,
@@ -102,11 +102,7 @@ impl Targets<'_> {
                 camera.viewport
             )));
         }
-        if lights > MAX_LIGHTS {
-            return Err(RenderError::Invalid(format!(
-                "{lights} lights given, at most {MAX_LIGHTS} supported"
-            )));
-        }
+        crate::inputs::check_light_count(lights)?;
         Ok(size)
     }
 

@@ -214,3 +214,19 @@ pub fn small_satf_database(samples: u32) -> tress_satf::Database {
     };
     tress_satf::database::bake(&s, |_, _| {}).expect("bake")
 }
+
+/// Coarse SATF settings for small test clusters: equation 3's sampling 6 × 4 × 5 with one core
+/// ring, 3 map rows per HSV, 128² shadow maps; the rest default.
+pub fn small_satf_settings() -> tress_render::satf::SatfSettings {
+    tress_render::satf::SatfSettings {
+        sampling: tress_satf::ShellSampling {
+            st: 6,
+            sv: 4,
+            su: 5,
+            core_rings: 1,
+        },
+        map_rows: 3,
+        shadow_map_size: 128,
+        ..Default::default()
+    }
+}
