@@ -165,7 +165,6 @@ fn patch_types_match_wgsl() {
         PatchVertex,
         [position, ao, normal, u, tangent, v]
     );
-    // PatchParams' trailing padding is implicit in WGSL, explicit in Rust.
     let (size, members) = wgsl_layout(&m, "PatchParams");
     assert_eq!(size as usize, size_of::<PatchParamsGpu>());
     let rust: Vec<(String, u32)> = [
@@ -173,6 +172,9 @@ fn patch_types_match_wgsl() {
         ("alpha_ref", offset_of!(PatchParamsGpu, alpha_ref)),
         ("use_ao", offset_of!(PatchParamsGpu, use_ao)),
         ("min_alpha", offset_of!(PatchParamsGpu, min_alpha)),
+        ("shading", offset_of!(PatchParamsGpu, shading)),
+        ("fiber", offset_of!(PatchParamsGpu, fiber)),
+        ("dual", offset_of!(PatchParamsGpu, dual)),
     ]
     .iter()
     .map(|(n, o)| (n.to_string(), *o as u32))

@@ -495,6 +495,12 @@ fn patch_section(ui: &mut Ui, session: &Session, form: &mut Form<'_>) {
     };
     ui.label(RichText::new("changes rebuild the patches (and their AO bake)").small());
     form.choice(ui, "patches.scheme", p.scheme.name(), &["4-pass", "3-pass"]);
+    form.choice(
+        ui,
+        "patches.shading",
+        p.shading.name(),
+        &["scheuermann", "marschner"],
+    );
     form.float(
         ui,
         "patches.alpha_ref",

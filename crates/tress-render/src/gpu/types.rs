@@ -295,8 +295,13 @@ pub struct PatchParamsGpu {
     pub use_ao: u32,
     /// The `min_alpha` option: the depth-writing transparent pass drops alpha below it.
     pub min_alpha: f32,
-    /// Padding to the struct's 16-byte alignment.
-    pub _pad: f32,
+    /// `patches.shading`: 0 Scheuermann's `HairLighting`, 1 Marschner.
+    pub shading: u32,
+    /// The physically based fibre's lobes, `struct Marschner` (zero unless the patches shade
+    /// with it).
+    pub fiber: [[f32; 4]; 2],
+    /// Its dual-scattering table.
+    pub dual: DualScatteringGpu,
 }
 
 /// Convert a glam matrix for upload.

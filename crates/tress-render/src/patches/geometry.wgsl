@@ -6,6 +6,11 @@
 
 #include "common/camera.wgsl"
 #include "common/shading.wgsl"
+#include "common/marschner.wgsl"
+
+// `PatchParams::shading`: Scheuermann's `HairLighting` (the slides) or Marschner's lobes.
+const PATCH_SHADING_SCHEUERMANN: u32 = 0u;
+const PATCH_SHADING_MARSCHNER: u32 = 1u;
 
 // One patch vertex (vertex buffer; mirrored by `gpu::types::PatchVertex`).
 struct PatchVertex {
@@ -31,6 +36,12 @@ struct PatchParams {
     use_ao: u32,
     // The `min_alpha` option: the depth-writing transparent pass drops alpha below it.
     min_alpha: f32,
+    // PATCH_SHADING_SCHEUERMANN or PATCH_SHADING_MARSCHNER (`patches.shading`).
+    shading: u32,
+    // The physically based fibre of `patches.shading = "marschner"` and its dual-scattering
+    // table (zero otherwise).
+    fiber: Marschner,
+    dual: DualScattering,
 }
 
 @group(2) @binding(0) var<uniform> patch_params: PatchParams;

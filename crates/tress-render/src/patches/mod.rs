@@ -103,10 +103,11 @@ pub use z_prime::ZPrime;
 use glam::Vec3;
 use tress_hair::patches::TextureParams;
 use tress_shading::HairLighting;
+use tress_shading::fiber::HairFiber;
 
-use crate::RenderError;
 use crate::bind::{filterable_texture_2d, filtering_sampler, uniform};
-use crate::gpu::types::{HairLightingGpu, PatchParamsGpu};
+use crate::gpu::types::{DualScatteringGpu, FiberUniform, HairLightingGpu, PatchParamsGpu};
+use crate::{RenderError, Shading};
 
 /// Names of the timed passes, in frame order (a 3-pass frame has no `patches/z_prime`).
 pub const PASS_NAMES: &[&str] = &[
@@ -139,6 +140,14 @@ pub struct PatchSettings {
     pub mipmaps: bool,
     /// The procedural textures (used unless textures are given explicitly).
     pub textures: TextureParams,
+    /// The pixel shader's model: [`Shading::Scheuermann`] (default, the slides' `HairLighting`)
+    /// or [`Shading::Marschner`] (Marschner's lobes of [`PatchSettings::fiber`] with dual
+    /// scattering's local back-scattering; the base texture only tints the ambient term). Kajiya-Kay
+    /// is the strands' model and is refused here.
+    pub shading: Shading,
+    /// The physically based fibre under [`Shading::Marschner`] (the hair material's melanin,
+    /// roughness, tilt and η).
+    pub fiber: HairFiber,
 }
 
 impl Default for PatchSettings {
@@ -151,6 +160,8 @@ impl Default for PatchSettings {
             ambient_occlusion: true,
             mipmaps: true,
             textures: TextureParams::default(),
+            shading: Shading::Scheuermann,
+            fiber: HairFiber::default(),
         }
     }
 }
@@ -192,6 +203,15 @@ impl PatchSettings {
         if !(self.min_alpha >= 0.0 && self.min_alpha < self.alpha_ref) {
             return bad("min_alpha", "must be in [0, alpha_ref)");
         }
+        if self.shading == Shading::KajiyaKay {
+            return bad(
+                "shading",
+                "must be scheuermann or marschner (kajiya-kay is the strands' model)",
+            );
+        }
+        self.fiber
+            .validate()
+            .map_err(|e| RenderError::setting("patches.fiber", e))?;
         self.textures
             .validate()
             .map_err(|e| RenderError::setting("patches.textures", e))
@@ -214,8 +234,22 @@ impl PatchSettings {
             alpha_ref: self.alpha_ref,
             use_ao: u32::from(self.ambient_occlusion),
             min_alpha: self.min_alpha,
-            _pad: 0.0,
+            shading: u32::from(self.shading == Shading::Marschner),
+            fiber: [[0.0; 4]; 2],
+            dual: DualScatteringGpu::default(),
         }
+    }
+
+    /// [`PatchSettings::params`] with the fibre's lobes and dual-scattering table when the
+    /// patches shade with Marschner (`fiber` is [`FiberUniform::new`] of
+    /// [`PatchSettings::fiber`], computed once: the table takes some 20 ms).
+    pub fn params_with(&self, fiber: &FiberUniform) -> PatchParamsGpu {
+        let mut p = self.params();
+        if self.shading == Shading::Marschner {
+            p.fiber = fiber.marschner;
+            p.dual = fiber.dual;
+        }
+        p
     }
 
     /// The passes these settings draw: the scheme's, with the `min_alpha` option applied

@@ -1,7 +1,9 @@
 // The shading passes of the patch technique (Scheuermann 2004, slides "Putting it All Together"
 // and "Sorted/Optimized Rendering Scheme"): the slide's `HairLighting` per light through the
 // shared `shading.wgsl` functions, summed over the lights, plus the ambient light times base and
-// ambient occlusion. The pass states (depth compare, culling, writes) live in the pipelines;
+// ambient occlusion. With `patches.shading = "marschner"` each light's term is Marschner's R,
+// TT and TRT lobes with dual scattering's local back-scattering instead (the fibre axis is the
+// patch tangent; patches have no shadows, so no strands lie towards the light). The pass states (depth compare, culling, writes) live in the pipelines;
 // the entry point picks the alpha test. Owner: `PatchShade`.
 
 #include "patches/geometry.wgsl"
@@ -34,9 +36,29 @@ fn shade(in: PatchVarying) -> vec4<f32> {
     var rgb = lights.ambient * base * amb_occ;
     for (var i = 0u; i < min(lights.count, MAX_LIGHTS); i = i + 1u) {
         let light = lights.lights[i];
-        rgb = rgb + hair_lighting(patch_params.lighting, s, light.to_light, light_radiance(light), v);
+        if patch_params.shading == PATCH_SHADING_MARSCHNER {
+            rgb = rgb + patch_marschner(t, light.to_light, light_radiance(light), v);
+        } else {
+            rgb = rgb + hair_lighting(patch_params.lighting, s, light.to_light, light_radiance(light), v);
+        }
     }
     return vec4<f32>(rgb, alpha);
+}
+
+// `dual_scattering_lighting` of the patch fibre, unshadowed (no strands towards the light, all
+// of it direct), the table read row by row from the uniform as `material_dual_scattering` does
+// (CPU twin: `tress_shading::dual_scattering::dual_scattering_lighting(m, ds, t, l, c, v, 0, 1)`).
+fn patch_marschner(t: vec3<f32>, l: vec3<f32>, light_color: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
+    let x = ds_table_x(hair_angles(t, l, v).sin_theta_i);
+    let i = min(u32(floor(x)), 15u);
+    let j = min(i + 1u, 15u);
+    let at = ds_table_mix(
+        patch_params.dual.a_f[i], patch_params.dual.a_f[j], patch_params.dual.a_b[i],
+        patch_params.dual.a_b[j], patch_params.dual.delta_b[i], patch_params.dual.delta_b[j],
+        patch_params.dual.sigma_b2[i], patch_params.dual.sigma_b2[j], x - f32(i));
+    return ds_lighting_at(
+        patch_params.fiber, patch_params.dual.params, patch_params.dual.tt_avg,
+        patch_params.dual.trt_avg, at, t, l, light_color, v, 0.0, 1.0);
 }
 
 // No alpha test: the 4-pass scheme's passes 2 to 4 resolve opacity with the primed depth.

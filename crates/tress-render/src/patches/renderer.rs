@@ -13,13 +13,14 @@
 
 use glam::Vec3;
 use tress_hair::patches::HairTextures;
+use tress_shading::fiber::HairFiber;
 
 use super::passes::PassShader;
 use super::{
     PASS_NAMES, PatchGeometry, PatchHead, PatchLayouts, PatchSettings, PatchShade, PatchTextures,
     RenderScheme, TextureSlot, ZPrime,
 };
-use crate::gpu::types::{CameraUniform, LightsUniform};
+use crate::gpu::types::{CameraUniform, FiberUniform, LightsUniform, PatchParamsGpu};
 use crate::gpu::{GpuTimer, TargetFormats, Targets, Timings, clear_loads, uniform_buffer};
 use crate::head::HeadGeometry;
 use crate::stats::{ReadbackRing, SlotInfo, StatsReadback};
@@ -85,6 +86,9 @@ pub struct PatchRenderer {
     ring: ReadbackRing,
     stats_readback: StatsReadback,
     frame: u64,
+    /// The fibre's lobes and dual-scattering table, computed when Marschner shading first
+    /// needs them and again when the fibre changes.
+    fiber: Option<(HairFiber, FiberUniform)>,
 }
 
 fn generate_textures(settings: &PatchSettings) -> Result<HairTextures, RenderError> {
@@ -186,6 +190,7 @@ impl PatchRenderer {
             ring,
             stats_readback: StatsReadback::Wait,
             frame: 0,
+            fiber: None,
         })
     }
 
@@ -300,6 +305,24 @@ impl PatchRenderer {
         self.stats_readback = mode;
     }
 
+    /// This frame's patch uniform: the settings' constants, and under Marschner shading the
+    /// fibre's lobes and table (cached: the table takes some 20 ms to integrate).
+    fn params(&mut self) -> PatchParamsGpu {
+        if self.settings.shading != crate::Shading::Marschner {
+            return self.settings.params();
+        }
+        let fiber = self.settings.fiber;
+        let uniform = match self.fiber {
+            Some((f, u)) if f == fiber => u,
+            _ => {
+                let u = FiberUniform::new(&fiber);
+                self.fiber = Some((fiber, u));
+                u
+            }
+        };
+        self.settings.params_with(&uniform)
+    }
+
     /// Render one frame into `targets` and submit it on `ctx.queue`.
     pub fn render(
         &mut self,
@@ -327,11 +350,8 @@ impl PatchRenderer {
         );
         q.write_buffer(&self.lights, 0, bytemuck::bytes_of(&lights));
         q.write_buffer(&self.head_color, 0, bytemuck::bytes_of(&head_color));
-        q.write_buffer(
-            &self.patch_params,
-            0,
-            bytemuck::bytes_of(&self.settings.params()),
-        );
+        let params = self.params();
+        q.write_buffer(&self.patch_params, 0, bytemuck::bytes_of(&params));
 
         let frame = self.frame;
         self.frame += 1;

@@ -22,6 +22,7 @@
 //! ```toml
 //! [patches]
 //! scheme = "4-pass"            # or "3-pass"
+//! shading = "scheuermann"      # or "marschner": the [hair.material] fibre's lobes
 //! alpha_ref = 0.99             # alpha test: alpha >= alpha_ref is opaque
 //! min_alpha = 0.0              # > 0: the last pass drops alpha below it (an option, see mod docs)
 //! ambient_occlusion = true
@@ -54,8 +55,8 @@ use tress_hair::patches::{
 use tress_scene::{HeadSource, Scene};
 
 use super::{PatchSettings, RenderScheme, TextureSlot, load_texture_png};
-use crate::RenderError;
 use crate::scene_setup::PreparedScene;
+use crate::{RenderError, Shading};
 
 /// `[patches.generator]`.
 #[derive(Deserialize, Default, Debug)]
@@ -124,6 +125,7 @@ struct TextureTable {
 #[serde(deny_unknown_fields, default)]
 struct PatchTable {
     scheme: Option<String>,
+    shading: Option<String>,
     alpha_ref: Option<f32>,
     min_alpha: Option<f32>,
     ambient_occlusion: Option<bool>,
@@ -159,9 +161,13 @@ pub fn patch_settings(scene: &Scene) -> Result<PatchSettings, RenderError> {
     if let Some(h) = scene.hair.first() {
         s.lighting = h.material.hair_lighting();
         s.textures.base_color = h.material.base_color;
+        s.fiber = h.material.fiber()?;
     }
     if let Some(name) = &t.scheme {
         s.scheme = name.parse::<RenderScheme>()?;
+    }
+    if let Some(name) = &t.shading {
+        s.shading = name.parse::<Shading>()?;
     }
     set!(s, t, alpha_ref, min_alpha, ambient_occlusion, mipmaps);
     set!(
@@ -426,6 +432,27 @@ mod tests {
                 .to_string()
                 .contains("alpha_ref")
         );
+    }
+
+    #[test]
+    fn marschner_shading_takes_the_materials_fibre() {
+        let text = "[[hair]]\ngenerator = { style = \"straight\", strands = 10 }\n\
+                    [hair.material]\neumelanin = 0.2\nbeta_m = 0.4\n\
+                    [patches]\nshading = \"marschner\"\n";
+        let mut scene = Scene::from_str(text, ".").unwrap();
+        let s = patch_settings(&scene).unwrap();
+        assert_eq!(s.shading, Shading::Marschner);
+        assert_eq!(s.fiber, scene.hair[0].material.fiber().unwrap());
+        assert_eq!(s.fiber.beta_m, 0.4);
+        assert_eq!(s.params().shading, 1);
+        assert_eq!(PatchSettings::default().shading, Shading::Scheuermann);
+        scene
+            .apply_override("patches.shading=\"kajiya-kay\"")
+            .unwrap();
+        let e = patch_settings(&scene).unwrap_err().to_string();
+        assert!(e.contains("patches.shading"), "{e}");
+        scene.apply_override("patches.shading=\"phong\"").unwrap();
+        assert!(patch_settings(&scene).is_err());
     }
 
     #[test]
