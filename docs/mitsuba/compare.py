@@ -6,7 +6,9 @@ al. 2016's hair BSDF in `tress-trace`) against an outside renderer: Mitsuba 3's 
 curve shapes, CPU variant `scalar_rgb` (PyPI `mitsuba`, tested with 3.9.1).
 
     pip install mitsuba numpy pillow
-    python3 docs/mitsuba/compare.py docs/mitsuba/blond.toml --tress target/debug/tress
+    python3 docs/mitsuba/compare.py docs/mitsuba/blond.toml --tress target/release/tress
+
+The committed images and figures, and the command that made them: docs/mitsuba/README.md.
 
 For each scene `NAME.toml` this writes, into `--out` (default: the scene's folder):
 

@@ -362,6 +362,54 @@ fn quality_scores_only_the_techniques_and_distances_asked_for() {
     );
 }
 
+/// `--shading marschner` shades the patches with the fibre and scores against the path-traced
+/// reference: both images differ from the default run's, and the report says which shading.
+#[test]
+fn quality_shading_marschner_changes_the_reference_and_the_patches() {
+    if skip_gpu() {
+        eprintln!("skipped on purpose: TRESS_SKIP_GPU_TESTS=1");
+        return;
+    }
+    let run = |name: &str, shading: &[&str]| {
+        let dir = tmp(name);
+        let mut args = vec![
+            "bench",
+            "--quality",
+            "--quick",
+            "--spp",
+            "2",
+            "--width",
+            "96",
+            "--height",
+            "54",
+            "--technique",
+            "patches",
+            "--distance",
+            "1",
+            "-o",
+            dir.to_str().unwrap(),
+        ];
+        args.extend(shading);
+        assert_gpu_success(&tress(&args));
+        let md = std::fs::read_to_string(dir.join("quality.md")).unwrap();
+        let png = |f: &str| image::open(dir.join(f)).unwrap().to_rgb8().into_raw();
+        (md, png("demo-d1-reference.png"), png("demo-d1-patches.png"))
+    };
+    let (md_kk, reference_kk, patches_kk) = run("quality-kk", &[]);
+    let (md_m, reference_m, patches_m) = run("quality-marschner", &["--shading", "marschner"]);
+    assert!(md_kk.contains("Shading: the scenes' own"), "{md_kk}");
+    assert!(md_m.contains("Shading: **Marschner**"), "{md_m}");
+    let differing =
+        |a: &[u8], b: &[u8]| a.iter().zip(b).filter(|(x, y)| x.abs_diff(**y) > 8).count();
+    let (r, p) = (
+        differing(&reference_kk, &reference_m),
+        differing(&patches_kk, &patches_m),
+    );
+    // The demo's hair covers about a tenth of the frame: a few hundred channel values.
+    assert!(r > 100, "the reference barely changed: {r} channel values");
+    assert!(p > 100, "the patches barely changed: {p} channel values");
+}
+
 #[test]
 fn bad_bench_arguments_are_one_line_errors() {
     let dir = tmp("bad-bench");
@@ -369,6 +417,7 @@ fn bad_bench_arguments_are_one_line_errors() {
         (vec!["--sweep", "nope"], "unknown sweep `nope`"),
         (vec!["--frames", "0"], "--frames must be at least 1"),
         (vec!["--set", "volume.steps=0"], "steps"),
+        (vec!["--shading", "phong"], "unknown shading `phong`"),
     ] {
         let mut all = vec!["bench", "--quick", "-o", dir.to_str().unwrap()];
         all.extend(args);

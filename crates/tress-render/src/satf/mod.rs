@@ -51,6 +51,11 @@
 //!   camera. Several lights add, each times its color × intensity and its visibility through
 //!   other clusters; the frame's ambient light adds `ambient · f_dif`. With the default white
 //!   light `f_speI` is the light's color as §6.3 says.
+//!   **SATF keeps its paper's lighting** under `strands.shading = "marschner"` (and has no
+//!   `shading` key of its own): equations 8–11 mix the database's `r̂e` (Phong on the
+//!   density gradient, §5.1) with Kajiya-Kay's diffuse and shifted specular lobes; a physically
+//!   based fibre would need HRIRs traced with its BSDF, which the paper's off-line phase does
+//!   not define. `tress bench --quality --shading marschner` scores it as it is.
 //! - **Shadows.** Within a cluster, equation 12 ([`tress_satf::online::ShadowApprox`]: the
 //!   exponential definition by default, or its linear form), `c(k)` = the layers outside `k` at the
 //!   same texel. Between clusters the paper casts shadow volumes; **here a shadow map is the

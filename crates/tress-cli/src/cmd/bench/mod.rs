@@ -77,9 +77,28 @@ pub(crate) struct Args {
     /// Frames timed per point (default 60, 2 with --quick).
     #[arg(long)]
     frames: Option<u32>,
+    /// Shade every technique that can with this model: `kajiya-kay`, `scheuermann` (both set
+    /// `strands.shading`) or `marschner` (sets `strands.shading` and `patches.shading`; with
+    /// --quality the reference is then the path tracer with Chiang et al.'s fibres). SATF keeps
+    /// its paper's lighting. `--set` still overrides either key.
+    #[arg(long, value_name = "MODEL")]
+    shading: Option<String>,
     /// Override any scene or technique setting (`key=value`), as for `render`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     sets: Vec<String>,
+}
+
+/// The overrides `--shading` stands for (before the user's `--set`s, which win).
+fn shading_sets(shading: Option<&str>) -> Result<Vec<String>> {
+    let Some(name) = shading else {
+        return Ok(Vec::new());
+    };
+    let model: tress_render::Shading = name.parse().with_context(|| "--shading".to_string())?;
+    let mut sets = vec![format!("strands.shading=\"{model}\"")];
+    if model == tress_render::Shading::Marschner {
+        sets.push(format!("patches.shading=\"{model}\""));
+    }
+    Ok(sets)
 }
 
 /// Set each row's mean FLIP against the exact sorted composite of the reference row's frame
@@ -146,8 +165,9 @@ pub(crate) fn run(args: Args) -> Result<()> {
         args.height.unwrap_or(if args.quick { 180 } else { 720 }),
     ];
     let (mut scene, auto_frame) = base_scene(&args.inputs)?;
-    scene.apply_overrides(&args.sets)?;
-    let mut sets = args.sets.clone();
+    let mut sets = shading_sets(args.shading.as_deref())?;
+    sets.extend(args.sets.iter().cloned());
+    scene.apply_overrides(&sets)?;
     if args.quick && !args.quality {
         // A quarter of the strands: the quick run is about the pipeline, not the asset.
         let quarter: Vec<String> = scene
@@ -190,6 +210,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
         let select = quality::Select {
             techniques: &args.techniques,
             distances: &args.distances,
+            shading: args.shading.as_deref(),
         };
         return quality::run(&run, args.quick, args.spp, &select);
     }

@@ -60,6 +60,8 @@ struct Row {
 pub(crate) struct Select<'a> {
     pub(crate) techniques: &'a [String],
     pub(crate) distances: &'a [f32],
+    /// `--shading`, for the report's title (the overrides are already in the run's scene).
+    pub(crate) shading: Option<&'a str>,
 }
 
 /// A technique's image scored against the reference.
@@ -395,7 +397,11 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>, select: &Select<'_>)
     }
     write(&run.dir, "quality.csv", &csv(&rows))?;
     let adapter = &run.ctx.adapter_info.name;
-    write(&run.dir, "quality.md", &markdown(&rows, adapter, size, spp))?;
+    write(
+        &run.dir,
+        "quality.md",
+        &markdown(&rows, adapter, size, spp, select.shading),
+    )?;
     println!(
         "wrote the quality report of {} scenes x {} distances into {} ({} scores) on {adapter}",
         all.len(),
@@ -511,9 +517,27 @@ fn csv(rows: &[Row]) -> String {
     out
 }
 
-fn markdown(rows: &[Row], adapter: &str, size: [u32; 2], spp: u32) -> String {
+fn markdown(
+    rows: &[Row],
+    adapter: &str,
+    size: [u32; 2],
+    spp: u32,
+    shading: Option<&str>,
+) -> String {
+    let shading = match shading {
+        Some("marschner") => "Shading: **Marschner** (`--shading marschner`: strands, volume, \
+             hybrid and patches shade the `[hair.material]` fibre; SATF keeps its paper's \
+             lighting), against the path-traced reference with Chiang et al. 2016's fibres."
+            .to_string(),
+        Some(model) => format!(
+            "Shading: **{model}** (`--shading {model}`), the reference evaluating the same model."
+        ),
+        None => "Shading: the scenes' own (Kajiya-Kay unless a scene says otherwise), the \
+                 reference evaluating the same model."
+            .to_string(),
+    };
     let mut md = format!(
-        "# tress image quality\n\nEvery technique against the CPU reference ray tracer \
+        "# tress image quality\n\n{shading}\n\nEvery technique against the CPU reference ray tracer \
          (`tress-trace`, {spp} samples per pixel), {}x{}, GPU images from **{adapter}**. \
          FLIP is the mean FLIP error over the frame (0 identical, lower is better), FLIP on \
          hair its mean over the pixels the hair covers (which the background does not dilute); \
