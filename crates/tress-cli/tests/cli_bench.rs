@@ -312,14 +312,10 @@ fn near_the_committed_scores(rows: &[Vec<String>]) {
     }
 }
 
-#[test]
-fn quality_scores_only_the_techniques_and_distances_asked_for() {
-    if skip_gpu() {
-        eprintln!("skipped on purpose: TRESS_SKIP_GPU_TESTS=1");
-        return;
-    }
-    let dir = tmp("quality-select");
-    let mut args = vec![
+/// A `--quality --quick` run at 96x54 and 2 spp of one technique at one distance into `dir`
+/// (the distance is argument 12).
+fn small_quality_args<'a>(technique: &'a str, distance: &'a str, dir: &'a str) -> Vec<&'a str> {
+    vec![
         "bench",
         "--quality",
         "--quick",
@@ -330,12 +326,23 @@ fn quality_scores_only_the_techniques_and_distances_asked_for() {
         "--height",
         "54",
         "--technique",
-        "satf",
+        technique,
         "--distance",
-        "2",
+        distance,
         "-o",
-        dir.to_str().unwrap(),
-    ];
+        dir,
+    ]
+}
+
+#[test]
+fn quality_scores_only_the_techniques_and_distances_asked_for() {
+    if skip_gpu() {
+        eprintln!("skipped on purpose: TRESS_SKIP_GPU_TESTS=1");
+        return;
+    }
+    let dir = tmp("quality-select");
+    let dir_arg = dir.to_str().unwrap();
+    let mut args = small_quality_args("satf", "2", dir_arg);
     assert_gpu_success(&tress(&args));
     let rows = csv_rows(&dir.join("quality.csv"));
     let picked: Vec<(&str, &str, &str)> = rows
@@ -372,23 +379,7 @@ fn quality_shading_marschner_changes_the_reference_and_the_patches() {
     }
     let run = |name: &str, shading: &[&str]| {
         let dir = tmp(name);
-        let mut args = vec![
-            "bench",
-            "--quality",
-            "--quick",
-            "--spp",
-            "2",
-            "--width",
-            "96",
-            "--height",
-            "54",
-            "--technique",
-            "patches",
-            "--distance",
-            "1",
-            "-o",
-            dir.to_str().unwrap(),
-        ];
+        let mut args = small_quality_args("patches", "1", dir.to_str().unwrap());
         args.extend(shading);
         assert_gpu_success(&tress(&args));
         let md = std::fs::read_to_string(dir.join("quality.md")).unwrap();

@@ -200,8 +200,9 @@ fn rendered_pixels_match_the_cpu_hair_lighting() {
 
 /// `patches.shading = "marschner"`: each pixel is the CPU twin's unshadowed dual-scattering
 /// term of the patch tangent (no strands towards the light, all of it direct); the base texture
-/// and AO only reach the ambient term, which is zero here. The Scheuermann constants are set
-/// to values that would change every pixel, so a shader that ignored the mode would fail.
+/// and AO only reach the ambient term, which is zero here. The test first checks that the
+/// slides' default lighting differs clearly from it at this view, so a shader that ignored the
+/// mode would fail.
 #[test]
 fn marschner_patches_match_the_cpu_dual_scattering() {
     let fiber = HairFiber {
