@@ -112,6 +112,45 @@ fn hiding_the_hair_leaves_the_head_and_settings_apply_live() {
     assert!(b.memory.geometry > a.memory.geometry);
 }
 
+/// A `[hair.material]` key reaches the patches live: under `patches.shading = "marschner"`
+/// the frame after `hair.0.material.eumelanin=0.2` changes, and equals the frame of a session
+/// opened with that material.
+#[test]
+fn material_keys_reach_the_patches_live() {
+    let Some(ctx) = common::gpu() else { return };
+    let targets = OffscreenTargets::new(&ctx, SIZE, COLOR_FORMAT).unwrap();
+    let draw = |s: &mut Session| {
+        let camera = s.camera(SIZE);
+        s.render(&ctx, &targets.targets(), &camera, None).unwrap();
+        read_texture(&ctx, &targets.color).unwrap().pixels
+    };
+    let mut s = session(&ctx);
+    s.set_technique(&ctx, "patches").unwrap();
+    s.set(&ctx, "patches.shading=\"marschner\"").unwrap();
+    let brown = draw(&mut s);
+    s.set(&ctx, "hair.0.material.eumelanin=0.2").unwrap();
+    let blond = draw(&mut s);
+    let changed = brown.iter().zip(&blond).filter(|(a, b)| a != b).count();
+    assert!(changed > 100, "only {changed} pixels changed");
+
+    let (scene, auto_frame) = scene_from_inputs(&[]).unwrap();
+    let options = SessionOptions {
+        auto_frame,
+        overrides: vec![
+            "hair.0.strand_ratio=0.005".into(),
+            "patches.shading=\"marschner\"".into(),
+            "hair.0.material.eumelanin=0.2".into(),
+        ],
+        ..SessionOptions::default()
+    };
+    let mut fresh = Session::new(&ctx, TargetFormats::default(), scene, options).unwrap();
+    fresh.set_technique(&ctx, "patches").unwrap();
+    assert!(
+        draw(&mut fresh) == blond,
+        "the live frame differs from a fresh session's"
+    );
+}
+
 #[test]
 fn satf_without_a_database_is_a_clear_error() {
     let Some(ctx) = common::gpu() else { return };

@@ -344,6 +344,8 @@ fn settings(
     });
     section("patches", &["patches"]).show(ui, |ui| patch_section(ui, session, form));
     section("satf", &["satf"]).show(ui, |ui| satf_section(ui, session, form));
+    egui::CollapsingHeader::new("hair fibre (marschner)")
+        .show(ui, |ui| fiber_section(ui, session, form));
     egui::CollapsingHeader::new("lights").show(ui, |ui| {
         for (i, light) in session.scene().lights.iter().enumerate() {
             form.float(
@@ -483,6 +485,43 @@ fn volume_settings(ui: &mut Ui, v: &VolumeSettings, form: &mut Form<'_>) {
         0.0..=4.0,
         Apply::Live,
     );
+}
+
+/// The keys of [`fiber_section`].
+const FIBER_KEYS: [&str; 6] = [
+    "hair.0.material.eumelanin",
+    "hair.0.material.pheomelanin",
+    "hair.0.material.beta_m",
+    "hair.0.material.beta_n",
+    "hair.0.material.alpha_deg",
+    "hair.0.material.eta",
+];
+
+/// The physically based fibre of the first hair entry (`[hair.material]`), which
+/// `strands.shading` and `patches.shading = "marschner"` shade: melanin (when the material gives
+/// its colour that way; `sigma_a` and `target_color` are left to the text field), roughness,
+/// tilt and index.
+fn fiber_section(ui: &mut Ui, session: &Session, form: &mut Form<'_>) {
+    let Some(m) = session.scene().hair.first().map(|h| &h.material) else {
+        ui.label("no hair");
+        return;
+    };
+    if m.sigma_a.is_none() && m.target_color.is_none() {
+        let eumelanin = m.eumelanin.unwrap_or(tress_scene::DEFAULT_EUMELANIN);
+        let pheomelanin = m.pheomelanin.unwrap_or(tress_scene::DEFAULT_PHEOMELANIN);
+        form.float(ui, FIBER_KEYS[0], eumelanin, 0.0..=8.0, Apply::Released);
+        form.float(ui, FIBER_KEYS[1], pheomelanin, 0.0..=4.0, Apply::Released);
+    }
+    form.float(ui, FIBER_KEYS[2], m.beta_m, 0.01..=1.0, Apply::Released);
+    form.float(ui, FIBER_KEYS[3], m.beta_n, 0.01..=1.0, Apply::Released);
+    form.float(
+        ui,
+        FIBER_KEYS[4],
+        m.alpha_deg,
+        -10.0..=10.0,
+        Apply::Released,
+    );
+    form.float(ui, FIBER_KEYS[5], m.eta, 1.01..=2.5, Apply::Released);
 }
 
 fn patch_section(ui: &mut Ui, session: &Session, form: &mut Form<'_>) {
@@ -682,6 +721,20 @@ fn status(ui: &mut Ui, view: &View<'_>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The fibre section's keys are material keys a scene accepts, and each changes the fibre.
+    #[test]
+    fn fiber_keys_change_the_fibre() {
+        let text = "[[hair]]\ngenerator = { style = \"straight\", strands = 4 }\n";
+        let base = tress_scene::Scene::from_str(text, ".").unwrap();
+        let fibre = |s: &tress_scene::Scene| s.hair[0].material.fiber().unwrap();
+        for key in FIBER_KEYS {
+            let mut scene = base.clone();
+            let value = if key.ends_with("eta") { 1.3 } else { 0.5 };
+            scene.apply_override(&format!("{key}={value}")).unwrap();
+            assert_ne!(fibre(&scene), fibre(&base), "{key}");
+        }
+    }
 
     #[test]
     fn labels_are_the_last_key_part() {

@@ -316,6 +316,10 @@ impl Session {
                 if key.contains(".material.") {
                     // SATF reads the hair colour into its lighting settings.
                     self.satf = None;
+                    // The patches take their highlight constants and fibre from the material.
+                    if let Some(p) = &mut self.patches {
+                        p.renderer.set_settings(ctx, patch_settings(&scene)?)?;
+                    }
                 }
                 if let Some(s) = &mut self.strands {
                     apply_strand_settings(ctx, &mut s.renderer, &prepared)?;
