@@ -105,12 +105,8 @@ pub struct Renderer {
     timer: GpuTimer,
     ring: ReadbackRing,
     stats_readback: StatsReadback,
-    /// The last material's fibre and its uniform (the dual-scattering table is integrated on
-    /// the CPU once per fibre, only while the strands shade with it).
-    fiber: Option<(
-        tress_shading::fiber::HairFiber,
-        crate::gpu::types::FiberUniform,
-    )>,
+    /// The material fibre's uniform (filled only while the strands shade with it).
+    fiber: types::FiberCache,
     frame: u64,
 }
 
@@ -300,14 +296,9 @@ impl Renderer {
         q.write_buffer(&self.lights, 0, bytemuck::bytes_of(&lights));
         let mut material = inputs.material.uniform();
         if self.settings.shading == crate::Shading::Marschner {
-            let fiber = inputs.material.fiber;
-            if self.fiber.as_ref().is_none_or(|(f, _)| *f != fiber) {
-                self.fiber = Some((fiber, crate::gpu::types::FiberUniform::new(&fiber)));
-            }
-            if let Some((_, uniform)) = &self.fiber {
-                material.fiber = uniform.marschner;
-                material.dual = uniform.dual;
-            }
+            let uniform = self.fiber.get(&inputs.material.fiber);
+            material.fiber = uniform.marschner;
+            material.dual = uniform.dual;
         }
         q.write_buffer(&self.material, 0, bytemuck::bytes_of(&material));
         q.write_buffer(&self.volume_params, 0, bytemuck::bytes_of(&volume));

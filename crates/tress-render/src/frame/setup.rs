@@ -100,7 +100,7 @@ impl Renderer {
             timer,
             ring,
             stats_readback: StatsReadback::Wait,
-            fiber: None,
+            fiber: Default::default(),
             frame: 0,
         })
     }

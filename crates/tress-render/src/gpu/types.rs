@@ -154,6 +154,26 @@ pub struct FiberUniform {
     pub dual: DualScatteringGpu,
 }
 
+/// The [`FiberUniform`] of the last fibre asked for: the dual-scattering table is integrated on
+/// the CPU once per fibre (some 20 ms), not every frame. Every renderer that shades with
+/// Marschner keeps one.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FiberCache(Option<(tress_shading::fiber::HairFiber, FiberUniform)>);
+
+impl FiberCache {
+    /// `fiber`'s uniform, computed again only when the fibre changed.
+    pub fn get(&mut self, fiber: &tress_shading::fiber::HairFiber) -> FiberUniform {
+        match self.0 {
+            Some((f, u)) if f == *fiber => u,
+            _ => {
+                let u = FiberUniform::new(fiber);
+                self.0 = Some((*fiber, u));
+                u
+            }
+        }
+    }
+}
+
 /// `struct DualScattering` in `shaders/common/marschner.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]

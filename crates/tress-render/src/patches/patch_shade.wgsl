@@ -3,8 +3,9 @@
 // shared `shading.wgsl` functions, summed over the lights, plus the ambient light times base and
 // ambient occlusion. With `patches.shading = "marschner"` each light's term is Marschner's R,
 // TT and TRT lobes with dual scattering's local back-scattering instead (the fibre axis is the
-// patch tangent; patches have no shadows, so no strands lie towards the light). The pass states (depth compare, culling, writes) live in the pipelines;
-// the entry point picks the alpha test. Owner: `PatchShade`.
+// patch tangent; patches have no shadows, so no strands lie towards the light). The pass states
+// (depth compare, culling, writes) live in the pipelines; the entry point picks the alpha test.
+// Owner: `PatchShade`.
 
 #include "patches/geometry.wgsl"
 #include "common/lights.wgsl"
@@ -49,13 +50,12 @@ fn shade(in: PatchVarying) -> vec4<f32> {
 // of it direct), the table read row by row from the uniform as `material_dual_scattering` does
 // (CPU twin: `tress_shading::dual_scattering::dual_scattering_lighting(m, ds, t, l, c, v, 0, 1)`).
 fn patch_marschner(t: vec3<f32>, l: vec3<f32>, light_color: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
-    let x = ds_table_x(hair_angles(t, l, v).sin_theta_i);
-    let i = min(u32(floor(x)), 15u);
-    let j = min(i + 1u, 15u);
+    let r = ds_rows(hair_angles(t, l, v).sin_theta_i);
     let at = ds_table_mix(
-        patch_params.dual.a_f[i], patch_params.dual.a_f[j], patch_params.dual.a_b[i],
-        patch_params.dual.a_b[j], patch_params.dual.delta_b[i], patch_params.dual.delta_b[j],
-        patch_params.dual.sigma_b2[i], patch_params.dual.sigma_b2[j], x - f32(i));
+        patch_params.dual.a_f[r.i], patch_params.dual.a_f[r.j], patch_params.dual.a_b[r.i],
+        patch_params.dual.a_b[r.j], patch_params.dual.delta_b[r.i],
+        patch_params.dual.delta_b[r.j], patch_params.dual.sigma_b2[r.i],
+        patch_params.dual.sigma_b2[r.j], r.f);
     return ds_lighting_at(
         patch_params.fiber, patch_params.dual.params, patch_params.dual.tt_avg,
         patch_params.dual.trt_avg, at, t, l, light_color, v, 0.0, 1.0);

@@ -13,14 +13,13 @@
 
 use glam::Vec3;
 use tress_hair::patches::HairTextures;
-use tress_shading::fiber::HairFiber;
 
 use super::passes::PassShader;
 use super::{
     PASS_NAMES, PatchGeometry, PatchHead, PatchLayouts, PatchSettings, PatchShade, PatchTextures,
     RenderScheme, TextureSlot, ZPrime,
 };
-use crate::gpu::types::{CameraUniform, FiberUniform, LightsUniform, PatchParamsGpu};
+use crate::gpu::types::{CameraUniform, FiberCache, LightsUniform, PatchParamsGpu};
 use crate::gpu::{GpuTimer, TargetFormats, Targets, Timings, clear_loads, uniform_buffer};
 use crate::head::HeadGeometry;
 use crate::stats::{ReadbackRing, SlotInfo, StatsReadback};
@@ -86,9 +85,8 @@ pub struct PatchRenderer {
     ring: ReadbackRing,
     stats_readback: StatsReadback,
     frame: u64,
-    /// The fibre's lobes and dual-scattering table, computed when Marschner shading first
-    /// needs them and again when the fibre changes.
-    fiber: Option<(HairFiber, FiberUniform)>,
+    /// The fibre's uniform (filled only while the patches shade with Marschner).
+    fiber: FiberCache,
 }
 
 fn generate_textures(settings: &PatchSettings) -> Result<HairTextures, RenderError> {
@@ -190,7 +188,7 @@ impl PatchRenderer {
             ring,
             stats_readback: StatsReadback::Wait,
             frame: 0,
-            fiber: None,
+            fiber: FiberCache::default(),
         })
     }
 
@@ -306,20 +304,12 @@ impl PatchRenderer {
     }
 
     /// This frame's patch uniform: the settings' constants, and under Marschner shading the
-    /// fibre's lobes and table (cached: the table takes some 20 ms to integrate).
+    /// fibre's lobes and table.
     fn params(&mut self) -> PatchParamsGpu {
         if self.settings.shading != crate::Shading::Marschner {
             return self.settings.params();
         }
-        let fiber = self.settings.fiber;
-        let uniform = match self.fiber {
-            Some((f, u)) if f == fiber => u,
-            _ => {
-                let u = FiberUniform::new(&fiber);
-                self.fiber = Some((fiber, u));
-                u
-            }
-        };
+        let uniform = self.fiber.get(&self.settings.fiber);
         self.settings.params_with(&uniform)
     }
 

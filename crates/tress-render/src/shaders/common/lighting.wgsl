@@ -141,13 +141,11 @@ fn adsm_map_visibility(i: u32, p: vec3<f32>, params: StrandParams) -> f32 {
 fn material_dual_scattering(
     t: vec3<f32>, l: vec3<f32>, light_color: vec3<f32>, v: vec3<f32>, strands: f32,
     direct: f32) -> vec3<f32> {
-    let x = ds_table_x(hair_angles(t, l, v).sin_theta_i);
-    let i = min(u32(floor(x)), 15u);
-    let j = min(i + 1u, 15u);
+    let r = ds_rows(hair_angles(t, l, v).sin_theta_i);
     let at = ds_table_mix(
-        material.dual.a_f[i], material.dual.a_f[j], material.dual.a_b[i], material.dual.a_b[j],
-        material.dual.delta_b[i], material.dual.delta_b[j], material.dual.sigma_b2[i],
-        material.dual.sigma_b2[j], x - f32(i));
+        material.dual.a_f[r.i], material.dual.a_f[r.j], material.dual.a_b[r.i],
+        material.dual.a_b[r.j], material.dual.delta_b[r.i], material.dual.delta_b[r.j],
+        material.dual.sigma_b2[r.i], material.dual.sigma_b2[r.j], r.f);
     return ds_lighting_at(
         material.fiber, material.dual.params, material.dual.tt_avg, material.dual.trt_avg, at,
         t, l, light_color, v, strands, direct);

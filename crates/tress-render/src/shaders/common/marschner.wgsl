@@ -132,17 +132,29 @@ struct DualScatteringAt {
 // The table read at sin θi, linear between entries, clamped at the ends.
 fn dual_scattering_at(ds: DualScattering, sin_theta_i: f32) -> DualScatteringAt {
     var table = ds;
-    let x = ds_table_x(sin_theta_i);
-    let i = min(u32(floor(x)), 15u);
-    let j = min(i + 1u, 15u);
+    let r = ds_rows(sin_theta_i);
     return ds_table_mix(
-        table.a_f[i], table.a_f[j], table.a_b[i], table.a_b[j], table.delta_b[i],
-        table.delta_b[j], table.sigma_b2[i], table.sigma_b2[j], x - f32(i));
+        table.a_f[r.i], table.a_f[r.j], table.a_b[r.i], table.a_b[r.j], table.delta_b[r.i],
+        table.delta_b[r.j], table.sigma_b2[r.i], table.sigma_b2[r.j], r.f);
 }
 
 // The table position of sin θi: entry `floor(x)`, then `fract(x)` of the way to the next.
 fn ds_table_x(sin_theta_i: f32) -> f32 {
     return clamp((sin_theta_i + 1.0) * 0.5 * 16.0 - 0.5, 0.0, 15.0);
+}
+
+// The two table rows sin θi lies between, `i` and `j` (the next, clamped at the end), and the
+// fraction `f` of the way from `i` to `j`.
+struct DsRows {
+    i: u32,
+    j: u32,
+    f: f32,
+}
+
+fn ds_rows(sin_theta_i: f32) -> DsRows {
+    let x = ds_table_x(sin_theta_i);
+    let i = min(u32(floor(x)), 15u);
+    return DsRows(i, min(i + 1u, 15u), x - f32(i));
 }
 
 // The table's rows i and j mixed by f.
