@@ -41,6 +41,7 @@ const HELPERS: &[&str] = &[
     "ds_spread_single_scattering",
     "ds_lighting_at",
     "ds_table_x",
+    "ds_rows",
     "ds_table_mix",
 ];
 
