@@ -272,6 +272,14 @@ impl Renderer {
         } else {
             0.0
         };
+        // The volume is as opaque as the strands' lines (`volume.opacity = "strands"`).
+        if self.volume_settings.opacity == crate::volume::Opacity::Strands {
+            volume.optical_width = tress_shading::line_optical_width(
+                self.settings.alpha,
+                self.settings.width_px,
+                self.settings.coverage,
+            );
+        }
         volume.raster_shadow_mode = u32::from(plan.shadow_mode == ShadowMode::Volume);
         volume.raster_ao = u32::from(plan.raster_ao);
         if self.volume_settings.occlusion == crate::volume::Occlusion::Adsm {

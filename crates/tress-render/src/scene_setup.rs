@@ -343,6 +343,7 @@ struct VolumeTable {
     reconstruction_radius: Option<u32>,
     max_strands_per_voxel: Option<u32>,
     steps: Option<u32>,
+    opacity: Option<String>,
     iso: Option<f32>,
     shade_samples: Option<u32>,
     skip_empty: Option<bool>,
@@ -388,6 +389,9 @@ pub fn volume_settings(scene: &Scene) -> Result<VolumeSettings, RenderError> {
     }
     if let Some(name) = &t.occlusion {
         s.occlusion = name.parse()?;
+    }
+    if let Some(name) = &t.opacity {
+        s.opacity = name.parse()?;
     }
     s.validate()?;
     Ok(s)

@@ -243,7 +243,7 @@ fn volume_types_match_wgsl() {
                 occlusion_width,
                 occlusion_bias,
                 shade_samples,
-                _pad0,
+                optical_width,
                 _pad1,
                 _pad2
             ]

@@ -307,12 +307,20 @@ fn run_cpu(c: &Case, map: &cpu::DepthMap<'_>) -> [Vec4; OUTPUTS] {
         tail.weighted_color.extend(tail.alpha_sum),
         resolved.truncate().extend(tail.transmittance),
         cpu::composite_over_background(acc, color).extend(resolved.w),
-        Vec4::new(
-            cpu::adsm_pcf(map, texel, c.k[0] as i32, c.k[1], r, alpha),
-            0.0,
-            0.0,
-            0.0,
-        ),
+        {
+            let kk = cpu::KajiyaKay {
+                diffuse: Vec3::new(c.c[0], c.c[1], c.c[2]),
+                specular: Vec3::new(0.7, 0.5, 0.3),
+                exponent: c.t[3],
+            };
+            let spread = cpu::spread_kajiya_kay(&kk, c.s[3] * 1.2 - 0.1);
+            Vec4::new(
+                cpu::adsm_pcf(map, texel, c.k[0] as i32, c.k[1], r, alpha),
+                spread.exponent,
+                spread.specular.y,
+                spread.diffuse.x,
+            )
+        },
     ]
 }
 
@@ -328,7 +336,7 @@ const NAMES: [&str; OUTPUTS] = [
     "tail_accumulate",
     "tail_resolve / transmittance",
     "composite_over_background / tail alpha",
-    "adsm_pcf",
+    "adsm_pcf / spread_kajiya_kay",
 ];
 
 #[test]

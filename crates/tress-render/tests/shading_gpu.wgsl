@@ -89,8 +89,10 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     results[o + 8u] = vec4f(tail.weighted_color, tail.alpha_sum);
     results[o + 9u] = vec4f(tail_resolve(tail).xyz, tail.transmittance);
     results[o + 10u] = vec4f(composite_over_background(c.acc, c.c.xyz), tail_resolve(tail).w);
+    let spread = spread_kajiya_kay(KajiyaKay(c.c.xyz, vec3f(0.7, 0.5, 0.3), c.t.w), c.s.w * 1.2 - 0.1);
     results[o + 11u] = vec4f(
-        adsm_pcf(depth_map, vec2i(c.f.zw), i32(c.k.x), c.k.y, r, alpha), 0.0, 0.0, 0.0);
+        adsm_pcf(depth_map, vec2i(c.f.zw), i32(c.k.x), c.k.y, r, alpha),
+        spread.exponent, spread.specular.y, spread.diffuse.x);
 }
 
 // A depth-map writer: a fullscreen triangle whose fragments take their depth from a buffer.

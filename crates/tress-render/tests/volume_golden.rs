@@ -28,6 +28,7 @@ fn volume() -> VolumeSettings {
         steps: 256,
         ao_radius: 0.1,
         occlusion: tress_render::volume::Occlusion::Strands,
+        opacity: tress_render::volume::Opacity::Iso,
         iso: 2.0,
         ao: true,
         strand_width: 0.01,

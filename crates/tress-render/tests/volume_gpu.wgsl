@@ -22,7 +22,7 @@ struct Case {
 @group(0) @binding(2) var volume: texture_3d<f32>;
 @group(0) @binding(3) var volume_sampler: sampler;
 
-const OUTPUTS: u32 = 8u;
+const OUTPUTS: u32 = 9u;
 
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) id: vec3u) {
@@ -62,4 +62,9 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         volume_adsm_visibility(
             volume, volume_sampler, vt, x, l, c.x.w, c.l.w, 0.25 * c.ao.x, -c.ao.z, 2.0 * c.ao.w),
         decode_texel(encode_texel(l * c.ao.w, 1u + n % 300u), 0.5).xyz);
+    // The strands' optical depth: no tangent on every eighth case.
+    let tangent = select(l * c.ao.w, vec3f(0.0), n % 8u == 0u);
+    results[o + 8u] = vec4f(
+        strand_optical_depth(c.s.x, tangent, normalize(x - vec3f(8.0)), c.x.w, c.ao.x),
+        volume_tangent_coherence(volume, volume_sampler, vt, x), 0.0, 0.0);
 }

@@ -29,6 +29,7 @@ fn volume() -> VolumeSettings {
         // the shadows visible, and 6 strands to the surface (half opaque after 0.75 strands, as
         // the paper's linear `iso = 2` after one) suit them.
         occlusion: tress_render::volume::Occlusion::Strands,
+        opacity: tress_render::volume::Opacity::Iso,
         iso: 6.0,
         ao: true,
         strand_width: 0.01,

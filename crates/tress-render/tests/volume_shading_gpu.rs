@@ -1,6 +1,6 @@
 //! Design rule 6 for the volume: the functions of `shaders/common/volume.wgsl` (volume shadows,
 //! local ambient occlusion, ADSM's expected visibility, density gradient and normal, fake
-//! transparency and the composite's transmittance and shading points, LOD factor and dither,
+//! transparency and the composite's transmittance and shading points, the strands' optical depth, LOD factor and dither,
 //! tangent quantization, hashing) evaluated on the GPU over a grid of inputs and a small density
 //! volume sampled by the hardware's trilinear filter, against the CPU twins in
 //! `tress_shading::volume` / `tress_shading::voxelize`.
@@ -16,7 +16,7 @@ use wgpu::util::DeviceExt;
 
 const RES: u32 = 16;
 const CASES: usize = 256;
-const OUTPUTS: usize = 8;
+const OUTPUTS: usize = 9;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -82,6 +82,21 @@ fn cases() -> Vec<Case> {
         .collect()
 }
 
+/// rgb: tangents turning from texel to texel (faded to 0.8), a: the density in quarter strands
+/// (the shader reads the texels with a density unit of 0.25).
+fn texels(density: &[f32]) -> Vec<[u8; 4]> {
+    density
+        .iter()
+        .enumerate()
+        .map(|(i, &d)| {
+            let q = d * 4.0;
+            assert!(q == q.round() && q <= 255.0, "{d} is not a texel");
+            let t = Vec3::new((i % 3) as f32 - 1.0, 1.0, ((i / 16) % 2) as f32 - 0.5);
+            cpu::voxelize::encode_texel(t.normalize() * 0.8, q as u32)
+        })
+        .collect()
+}
+
 fn run(ctx: &tress_render::GpuContext, cases: &[Case], density: &[f32]) -> Vec<[f32; 4]> {
     let module = test_module(
         ctx,
@@ -89,16 +104,7 @@ fn run(ctx: &tress_render::GpuContext, cases: &[Case], density: &[f32]) -> Vec<[
         include_str!("volume_gpu.wgsl"),
         "test/volume/shader",
     );
-    // rgb: a tangent-like filler, a: the density in quarter strands (the shader reads the
-    // texels with a density unit of 0.25).
-    let texels: Vec<u8> = density
-        .iter()
-        .flat_map(|&d| {
-            let q = d * 4.0;
-            assert!(q == q.round() && q <= 255.0, "{d} is not a texel");
-            cpu::voxelize::encode_texel(Vec3::new(0.5, 0.0, -0.5), q as u32)
-        })
-        .collect();
+    let texels: Vec<u8> = texels(density).into_iter().flatten().collect();
     let size = wgpu::Extent3d {
         width: RES,
         height: RES,
@@ -156,6 +162,9 @@ fn volume_functions_match_the_cpu_twins() {
     let vol = DensityVolume::new(RES, &density).expect("volume");
     let cases = cases();
     let out = run(&ctx, &cases, &density);
+    let bytes = texels(&density);
+    let tangents = cpu::TexelVolume::new(RES, &bytes, 0.25).expect("texels");
+    let mut coherences = Vec::new();
     // The volume is filtered in the shader in f32 from exact texels (not by the hardware's
     // filter, whose weights have 8 fractional bits on lavapipe), so the marches agree to
     // rounding; the exact functions are compared exactly.
@@ -216,6 +225,18 @@ fn volume_functions_match_the_cpu_twins() {
                 1e-4,
             );
         }
+        let tangent = if n % 8 == 0 { Vec3::ZERO } else { l * c.ao[3] };
+        let optical = cpu::strand_optical_depth(
+            c.s[0],
+            tangent,
+            (x - Vec3::splat(8.0)).normalize(),
+            c.x[3],
+            c.ao[0],
+        );
+        close("strand_optical_depth", i, r[8][0], optical, 1e-5, 1e-4);
+        let coherence = cpu::volume_tangent_coherence(&tangents, x);
+        close("volume_tangent_coherence", i, r[8][1], coherence, 1e-4, 1e-4);
+        coherences.push(coherence);
         let g = cpu::density_gradient(&vol, x);
         for k in 0..3 {
             close("density_gradient", i, r[1][k], g[k], 1e-4, 1e-4);
@@ -258,6 +279,12 @@ fn volume_functions_match_the_cpu_twins() {
         close("dequantize_tangent", i, r[5][2], m.x, 1e-6, 0.0);
         close("dequantize_tangent", i, r[5][3], m.y, 1e-6, 0.0);
     }
+    // The tangents turn: the coherence is well below 1 somewhere in the hair.
+    assert!(
+        coherences.iter().any(|&c| c < 0.9),
+        "{:?}",
+        coherences.iter().copied().fold(1.0f32, f32::min)
+    );
     // The grid is not trivial: the shadow rays met strands, the AO varied.
     let shadows: f32 = cases
         .iter()

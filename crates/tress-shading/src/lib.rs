@@ -24,6 +24,7 @@
 //! | [`kajiya_kay_diffuse`]`(t: Vec3, l: Vec3) -> f32` | `kajiya_kay_diffuse(t: vec3f, l: vec3f) -> f32` |
 //! | [`kajiya_kay_specular`]`(t: Vec3, l: Vec3, v: Vec3, exponent: f32) -> f32` | `kajiya_kay_specular(t: vec3f, l: vec3f, v: vec3f, exponent: f32) -> f32` |
 //! | [`kajiya_kay()`]`(kk: &KajiyaKay, t: Vec3, l: Vec3, v: Vec3) -> Vec3` | `kajiya_kay(kk: KajiyaKay, t: vec3f, l: vec3f, v: vec3f) -> vec3f` |
+//! | [`spread_kajiya_kay`]`(kk: &KajiyaKay, mean_length: f32) -> KajiyaKay` | `spread_kajiya_kay(kk: KajiyaKay, mean_length: f32) -> KajiyaKay` |
 //! | [`shift_tangent`]`(t: Vec3, n: Vec3, shift: f32) -> Vec3` | `shift_tangent(t: vec3f, n: vec3f, shift: f32) -> vec3f` |
 //! | [`strand_specular`]`(t: Vec3, v: Vec3, l: Vec3, exponent: f32) -> f32` | `strand_specular(t: vec3f, v: vec3f, l: vec3f, exponent: f32) -> f32` |
 //! | [`scheuermann_diffuse`]`(n: Vec3, l: Vec3) -> f32` | `scheuermann_diffuse(n: vec3f, l: vec3f) -> f32` |
@@ -62,6 +63,8 @@
 //! | [`density_gradient`]`(vol, x: Vec3) -> Vec3`, [`density_normal`]`(gradient: Vec3, fallback: Vec3) -> Vec3` | `density_gradient(tex, samp, vt: VolumeTexels, x: vec3f) -> vec3f`, `density_normal(gradient, fallback: vec3f) -> vec3f` |
 //! | [`volume_adsm_visibility`]`(vol, x, l: Vec3, step, offset, width, ln_keep, bias: f32) -> f32` | `volume_adsm_visibility(tex, samp, vt: VolumeTexels, x, l: vec3f, step, offset, width, ln_keep, bias: f32) -> f32` |
 //! | [`composite_transmittance`]`(strands, iso: f32) -> f32`, [`fake_transparency_alpha`]`(strands: f32, iso: f32) -> f32`, [`composite_point_reached`]`(tr: f32, m, k: u32) -> bool` | `composite_transmittance(strands, iso: f32) -> f32`, `fake_transparency_alpha(strands: f32, iso: f32) -> f32`, `composite_point_reached(tr: f32, m, k: u32) -> bool` |
+//! | [`strand_optical_depth`]`(strands: f32, tangent, dir: Vec3, pixel_voxels, optical_width: f32) -> f32` | `strand_optical_depth(strands: f32, tangent, dir: vec3<f32>, pixel_voxels, optical_width: f32) -> f32` |
+//! | [`volume_tangent_coherence`]`(vol: &TexelVolume, x: Vec3) -> f32` | `volume_tangent_coherence(tex, samp, vt: VolumeTexels, x: vec3<f32>) -> f32` |
 //! | [`lod_factor`]`(distance, near, far: f32) -> f32`, [`dither_threshold`]`(px: UVec2) -> f32` | `lod_factor(distance, near, far: f32) -> f32`, `dither_threshold(px: vec2u) -> f32` |
 //!
 //! Physically based hair (`shading = "marschner"`): the real-time lobes of [`marschner`] (Karis
@@ -111,7 +114,10 @@ pub use blend::{
     composite_sorted, resolve_k_buffer, tail_accumulate, tail_resolve,
 };
 pub use coverage::{coverage_from_distance, screen_from_clip, strand_coverage, tip_fade};
-pub use kajiya_kay::{KajiyaKay, kajiya_kay, kajiya_kay_diffuse, kajiya_kay_specular};
+pub use kajiya_kay::{
+    KajiyaKay, TANGENT_SPREAD_WIDENING, kajiya_kay, kajiya_kay_diffuse, kajiya_kay_specular,
+    spread_kajiya_kay,
+};
 pub use scheuermann::{
     HairLighting, HairSample, hair_lighting, scheuermann_diffuse, shift_tangent, strand_specular,
 };
@@ -127,8 +133,9 @@ pub use shortcut::{
 pub use volume::{
     DensityVolume, NO_CAP, VolumeSizeError, ao_offset, composite_point_reached,
     composite_transmittance, density_gradient, density_normal, dither_threshold,
-    fake_transparency_alpha, lod_factor, ray_box, volume_adsm_visibility, volume_ao,
-    volume_shadow_strands,
+    TexelVolume, fake_transparency_alpha, line_optical_width, lod_factor, ray_box,
+    strand_optical_depth, volume_adsm_visibility, volume_ao, volume_shadow_strands,
+    volume_tangent_coherence,
 };
 pub use voxelize::{
     VoxelCounts, VoxelGrid, VoxelValue, VoxelizeMode, dequantize_tangent, quantize_tangent,

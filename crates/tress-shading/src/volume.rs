@@ -114,6 +114,81 @@ impl<'a> DensityVolume<'a> {
     }
 }
 
+/// A read-only `res³` volume of resolved texels (rgba bytes: the mean tangent in the cube-root
+/// store, the strand count), the CPU stand-in for the whole 3D texture where a function needs the
+/// tangents. `texels[x + res · (y + res · z)]`; `density_unit` as for
+/// [`crate::voxelize::decode_texel`].
+#[derive(Clone, Copy, Debug)]
+pub struct TexelVolume<'a> {
+    res: u32,
+    texels: &'a [[u8; 4]],
+    density_unit: f32,
+}
+
+impl<'a> TexelVolume<'a> {
+    /// A view of `texels`, checked to hold `res³ > 0` of them.
+    pub fn new(
+        res: u32,
+        texels: &'a [[u8; 4]],
+        density_unit: f32,
+    ) -> Result<Self, VolumeSizeError> {
+        let expected = u64::from(res).pow(3);
+        if expected == 0 || texels.len() as u64 != expected {
+            return Err(VolumeSizeError {
+                res,
+                expected,
+                got: texels.len(),
+            });
+        }
+        Ok(TexelVolume {
+            res,
+            texels,
+            density_unit,
+        })
+    }
+
+    /// The decoded texel (mean tangent, density) at integer coordinates, clamped to the grid.
+    pub fn load(&self, x: i32, y: i32, z: i32) -> (Vec3, f32) {
+        let c = |v: i32| v.clamp(0, self.res as i32 - 1) as usize;
+        let r = self.res as usize;
+        crate::voxelize::decode_texel(self.texels[c(x) + r * (c(y) + r * c(z))], self.density_unit)
+    }
+}
+
+/// How parallel the strands around voxel position `x` run (WGSL `volume_tangent_coherence(tex,
+/// samp, vt, x)`): the length of the density-weighted trilinear mean of the eight nearest texels'
+/// tangent *directions*, in `[0, 1]`, 1 where they all run along one line (or no texel holds
+/// hair). The texels' own lengths carry the tip fade, so they are normalized first; empty texels
+/// do not count (interpolating towards their zero tangent would read as spread at the hair's
+/// surface). The raymarcher widens Kajiya-Kay's lobe with it
+/// ([`crate::spread_kajiya_kay`]): a pixel of strands averages the highlights of all the
+/// directions it covers.
+pub fn volume_tangent_coherence(vol: &TexelVolume<'_>, x: Vec3) -> f32 {
+    let p = x - Vec3::splat(0.5);
+    let i = p.floor();
+    let f = p - i;
+    let (x0, y0, z0) = (i.x as i32, i.y as i32, i.z as i32);
+    let mut sum = Vec3::ZERO;
+    let mut weight = 0.0;
+    for k in 0..8 {
+        let (dx, dy, dz) = (k & 1, (k >> 1) & 1, (k >> 2) & 1);
+        let w = (if dx == 1 { f.x } else { 1.0 - f.x })
+            * (if dy == 1 { f.y } else { 1.0 - f.y })
+            * (if dz == 1 { f.z } else { 1.0 - f.z });
+        let (t, density) = vol.load(x0 + dx, y0 + dy, z0 + dz);
+        let len = t.length();
+        if len > 1e-6 {
+            sum += w * density * t / len;
+            weight += w * density;
+        }
+    }
+    if weight > 0.0 {
+        sum.length() / weight
+    } else {
+        1.0
+    }
+}
+
 /// Entry and exit distances `(t0, t1)` of the ray `o + t · d` through the box `[lo, hi]` (slab
 /// method; `t0 > t1` is a miss). Zero components of `d` are handled by IEEE infinities.
 pub fn ray_box(o: Vec3, d: Vec3, lo: Vec3, hi: Vec3) -> (f32, f32) {
@@ -230,6 +305,49 @@ pub fn composite_transmittance(strands: f32, iso: f32) -> f32 {
 /// `iso <= 0`.
 pub fn fake_transparency_alpha(strands: f32, iso: f32) -> f32 {
     1.0 - composite_transmittance(strands, iso)
+}
+
+/// The optical width of one strand as the rasterizer draws it, in pixels: a line `width_px` wide
+/// of opacity `alpha`, times the §3.2 line coverage when `coverage` is on, lets through
+/// `exp(-width)` of the light summed across it: `width_px · ∫₀¹ -ln(1 - alpha · u) du =
+/// width_px · (1 + (1 - alpha) ln(1 - alpha) / alpha)` with coverage (it falls linearly from
+/// the centre line to the edges), `width_px · -ln(1 - alpha)` without. A ray through a pixel
+/// crossing strands of optical width `w` every `n` per pixel of path has the transmittance
+/// `exp(-n · w)`: the raymarcher's `volume.opacity = "strands"` uses it so the volume is as
+/// opaque as the strands' composite at any distance. 0 for `alpha <= 0` or `width_px <= 0`;
+/// `alpha` is clamped below 1 (a fully opaque line would be infinitely thick).
+pub fn line_optical_width(alpha: f32, width_px: f32, coverage: bool) -> f32 {
+    if alpha <= 0.0 || width_px <= 0.0 {
+        return 0.0;
+    }
+    let a = alpha.min(1.0 - 1.0 / 1024.0);
+    let keep = 1.0 - a;
+    if coverage {
+        width_px * (1.0 + keep * keep.ln() / a)
+    } else {
+        width_px * -keep.ln()
+    }
+}
+
+/// Optical depth of `strands` (opacity-weighted strand length, in voxel edges) met along an eye
+/// ray of direction `dir`, drawn as lines of optical width `optical_width` pixels where a pixel
+/// spans `pixel_voxels` voxels: the strands' projected length `strands · |t × dir|` (`t` the
+/// normalized mean `tangent`; a strand seen end-on covers nothing, and no tangent counts as
+/// across) times the line's width in voxels.
+pub fn strand_optical_depth(
+    strands: f32,
+    tangent: Vec3,
+    dir: Vec3,
+    pixel_voxels: f32,
+    optical_width: f32,
+) -> f32 {
+    let len = tangent.length();
+    let across = if len > 1e-6 {
+        (tangent / len).cross(dir).length()
+    } else {
+        1.0
+    };
+    strands * across * pixel_voxels * optical_width
 }
 
 /// Whether the transmittance `tr` has fallen to shading point `m` of `k`: the points split the
@@ -466,5 +584,82 @@ mod tests {
         assert_eq!(a, (1.0, 2.0));
         assert_eq!(b, (-0.5, 0.5));
         assert!(c.0 > c.1);
+    }
+
+    #[test]
+    fn line_optical_width_is_the_line_profiles_integral() {
+        for alpha in [0.05f32, 0.3, 0.6, 0.95] {
+            for width in [1.0f32, 1.5, 3.0] {
+                // Sum -ln(1 - alpha · coverage) across the line with the coverage twin.
+                let n = 20_000;
+                let dx = 2.0 * width / n as f32;
+                let integral: f32 = (0..n)
+                    .map(|i| {
+                        let d = (-width + (i as f32 + 0.5) * dx).abs();
+                        -(1.0 - alpha * crate::coverage_from_distance(d, width)).ln() * dx
+                    })
+                    .sum();
+                let w = line_optical_width(alpha, width, true);
+                assert!((w - integral).abs() < 1e-3 * integral, "{alpha} {width}: {w} vs {integral}");
+                let flat = line_optical_width(alpha, width, false);
+                assert!((flat - width * -(1.0 - alpha).ln()).abs() < 1e-5);
+                assert!(flat > w, "coverage thins the line");
+            }
+        }
+        assert_eq!(line_optical_width(0.0, 1.5, true), 0.0);
+        assert_eq!(line_optical_width(0.6, 0.0, true), 0.0);
+        assert!(line_optical_width(1.0, 1.5, false).is_finite());
+    }
+
+    #[test]
+    fn strands_seen_end_on_cover_nothing_and_across_cover_their_width() {
+        let d = Vec3::Z;
+        assert!((strand_optical_depth(2.0, Vec3::X * 0.5, d, 0.5, 0.6) - 0.6).abs() < 1e-6);
+        assert!(strand_optical_depth(2.0, Vec3::Z, d, 0.5, 0.6).abs() < 1e-6);
+        assert!((strand_optical_depth(2.0, Vec3::ZERO, d, 0.5, 0.6) - 0.6).abs() < 1e-6);
+        let diagonal = strand_optical_depth(1.0, Vec3::new(1.0, 0.0, 1.0), d, 1.0, 1.0);
+        assert!((diagonal - 0.5f32.sqrt()).abs() < 1e-6);
+    }
+
+    #[test]
+    fn coherence_is_one_for_parallel_strands_and_falls_with_their_spread() {
+        use crate::voxelize::encode_texel;
+        let res = 4u32;
+        let texels = |f: &dyn Fn(u32) -> (Vec3, u32)| -> Vec<[u8; 4]> {
+            (0..res * res * res)
+                .map(|i| {
+                    let (t, n) = f(i);
+                    encode_texel(t, n)
+                })
+                .collect()
+        };
+        let x = Vec3::splat(2.0);
+        // Parallel, with tip-faded lengths and empty texels between: coherent.
+        let parallel = texels(&|i| {
+            (Vec3::new(1.0, 1.0, 0.0).normalize() * (0.3 + 0.1 * (i % 5) as f32), 3 * (i % 2))
+        });
+        let vol = TexelVolume::new(res, &parallel, 1.0).unwrap();
+        assert!((volume_tangent_coherence(&vol, x) - 1.0).abs() < 0.01);
+        // Alternating between two directions 90° apart: |mean| = cos 45°.
+        let crossed = texels(&|i| {
+            let (ix, iy, iz) = (i % res, (i / res) % res, i / (res * res));
+            let t = if (ix + iy + iz) % 2 == 0 { Vec3::X } else { Vec3::Y };
+            (t, 2)
+        });
+        let vol = TexelVolume::new(res, &crossed, 1.0).unwrap();
+        let c = volume_tangent_coherence(&vol, x);
+        assert!((c - 0.5f32.sqrt()).abs() < 0.02, "{c}");
+        // A denser texel pulls the mean towards its direction.
+        let weighted = texels(&|i| {
+            let (ix, iy, iz) = (i % res, (i / res) % res, i / (res * res));
+            if (ix + iy + iz) % 2 == 0 { (Vec3::X, 30) } else { (Vec3::Y, 1) }
+        });
+        let vol = TexelVolume::new(res, &weighted, 1.0).unwrap();
+        assert!(volume_tangent_coherence(&vol, x) > 0.95);
+        // No hair: coherent by definition.
+        let empty = vec![[0u8; 4]; 64];
+        let vol = TexelVolume::new(res, &empty, 1.0).unwrap();
+        assert_eq!(volume_tangent_coherence(&vol, x), 1.0);
+        assert!(TexelVolume::new(res, &empty[..63], 1.0).is_err());
     }
 }

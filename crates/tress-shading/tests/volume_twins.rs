@@ -57,6 +57,11 @@ const FUNCTIONS: &[(&str, &[&str])] = &[
     ("density_gradient", &["tex", "samp", "vt", "x"]),
     ("density_normal", &["gradient", "fallback"]),
     ("fake_transparency_alpha", &["strands", "iso"]),
+    ("volume_tangent_coherence", &["tex", "samp", "vt", "x"]),
+    (
+        "strand_optical_depth",
+        &["strands", "tangent", "dir", "pixel_voxels", "optical_width"],
+    ),
     ("lod_factor", &["distance", "near", "far"]),
     ("dither_threshold", &["px"]),
 ];
@@ -108,5 +113,8 @@ fn cpu_twins_exist_with_the_same_arity() {
     let _ = volume_ao(&vol, Vec3::ONE, 1.0, 4, 1.0, 0.5, 1.0);
     let _ = density_normal(density_gradient(&vol, Vec3::ONE), Vec3::Z);
     let _ = (fake_transparency_alpha(1.0, 2.0), lod_factor(1.0, 0.0, 2.0));
+    let _ = strand_optical_depth(1.0, Vec3::X, Vec3::Z, 1.0, 0.5);
+    let texels = [[0u8; 4]; 8];
+    let _ = volume_tangent_coherence(&TexelVolume::new(2, &texels, 1.0).unwrap(), Vec3::ONE);
     let _ = dither_threshold(UVec2::ZERO);
 }

@@ -32,6 +32,7 @@ const FUNCTIONS: &[(&str, &[&str])] = &[
     ("kajiya_kay_diffuse", &["t", "l"]),
     ("kajiya_kay_specular", &["t", "l", "v", "exponent"]),
     ("kajiya_kay", &["kk", "t", "l", "v"]),
+    ("spread_kajiya_kay", &["kk", "mean_length"]),
     ("shift_tangent", &["t", "n", "shift"]),
     ("strand_specular", &["t", "v", "l", "exponent"]),
     ("scheuermann_diffuse", &["n", "l"]),

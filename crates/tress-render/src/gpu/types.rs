@@ -440,8 +440,9 @@ pub struct VolumeParams {
     pub occlusion_bias: f32,
     /// Raymarch: points shaded per pixel.
     pub shade_samples: u32,
-    /// Padding.
-    pub _pad0: u32,
+    /// Raymarch: optical width in pixels of a strand's line (`volume.opacity = "strands"`), 0
+    /// for the paper's `iso` count.
+    pub optical_width: f32,
     /// Padding.
     pub _pad1: u32,
     /// Padding.

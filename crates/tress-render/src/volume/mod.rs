@@ -42,9 +42,15 @@
 //! - **Raymarch (§3.3 "Surface", "Shading").** The AABB's back faces are rasterized (so the camera
 //!   may be inside the box); each fragment intersects its eye ray with the box and marches
 //!   `steps` constant steps (default 512, the paper's) across the box diagonal, accumulating
-//!   `density · step` strands, each weighed by its tip fade (below), until `iso` strands: the
-//!   solid isosurface. On the way the hair's transmittance falls as `256^(-strands / iso)`
-//!   (1/256 at the surface), and the colour is the mean of the shading at `shade_samples` points
+//!   `density · step` strands, each weighed by its tip fade (below), until the hair's
+//!   transmittance falls to 1/256: the solid surface. Under the default `opacity = "strands"`
+//!   ([`Opacity`]) every strand met is one of the rasterizer's lines: the transmittance is
+//!   `exp(-Σ strands · |t × dir| · pixel · w)`, `pixel` the voxels a pixel spans at that depth
+//!   and `w` the line's optical width in pixels from the strands' `width_px`, `alpha` and
+//!   coverage (`tress_shading::line_optical_width`), so the volume is as opaque as the strands'
+//!   composite at every distance (a pixel farther away covers more strands). Under the paper's
+//!   `opacity = "iso"` it falls as `256^(-strands / iso)`, the same at every distance. The
+//!   colour is the mean of the shading at `shade_samples` points
 //!   (default 4), where the transmittance falls through the middles of equal shares of the
 //!   composite's weight: the depth the rasterizer's composite of the same strands reaches, not
 //!   the paper's one point at the surface (`shade_samples = 1` shades where half the weight is
@@ -103,6 +109,7 @@
 //! `3³` box): a box summing more is clamped and counted ([`VolumeStats::saturated`]).
 
 mod occlusion;
+mod opacity;
 pub(crate) mod raymarch;
 mod volume_bounds;
 mod volume_resolve;
@@ -113,6 +120,7 @@ use std::fmt;
 use std::str::FromStr;
 
 pub use occlusion::Occlusion;
+pub use opacity::Opacity;
 pub use raymarch::Raymarch;
 pub use tress_shading::VoxelizeMode;
 pub use volume_bounds::VolumeBounds;
@@ -200,10 +208,13 @@ pub struct VolumeSettings {
     pub max_strands_per_voxel: u32,
     /// Raymarching steps across the box diagonal (the paper: 512).
     pub steps: u32,
-    /// Strands along a ray to a solid isosurface, each weighed by its tip fade: the hair's
-    /// transmittance falls as `256^(-strands / iso)`, to 1/256 there (default 48: where the
-    /// rasterizer's composite of the same strands is as deep; measured by `tress compare` on the
-    /// fur and ponytail scenes).
+    /// How the strands along an eye ray make the hair opaque ([`Opacity`]): as the strand
+    /// rasterizer's lines (default), or the paper's `iso` count.
+    pub opacity: Opacity,
+    /// Under `opacity = "iso"`: strands along a ray to a solid isosurface, each weighed by its
+    /// tip fade: the hair's transmittance falls as `256^(-strands / iso)`, to 1/256 there
+    /// (default 48: where the rasterizer's composite of the same strands is as deep at the fur
+    /// and ponytail scenes' own distance; measured by `tress compare`).
     pub iso: f32,
     /// Points shaded per pixel, `1..=8`: each at the middle of an equal share of the composite's
     /// weight along the ray (default 4; 1 shades where half the weight is reached).
@@ -245,6 +256,7 @@ impl Default for VolumeSettings {
             reconstruction_radius: 1,
             max_strands_per_voxel: 255,
             steps: 512,
+            opacity: Opacity::Strands,
             iso: 48.0,
             shade_samples: 4,
             skip_empty: false,

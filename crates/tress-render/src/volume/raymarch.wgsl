@@ -53,6 +53,12 @@ fn shade_volume(x: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
     let v = -dir;
     let n = density_normal(density_gradient(volume_texture, volume_sampler, vt, x), v);
     let base = material.base_color;
+    // Kajiya-Kay's lobe widened by how spread the strands around the point run: a pixel of
+    // strands averages the highlights of every direction it covers (Toksvig on the cone lobe).
+    var kk = KajiyaKay(base, material.lighting.primary_color, material.lighting.primary_exponent);
+    if volume_params.shading == SHADING_KAJIYA_KAY {
+        kk = spread_kajiya_kay(kk, volume_tangent_coherence(volume_texture, volume_sampler, vt, x));
+    }
     var color = lights.ambient * base;
     for (var i = 0u; i < min(lights.count, MAX_LIGHTS); i = i + 1u) {
         let light = lights.lights[i];
@@ -74,7 +80,6 @@ fn shade_volume(x: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
             let s = HairSample(t, 0.5, n, 0.5, base, 1.0);
             c = hair_lighting(material.lighting, s, l, light_radiance(light), v);
         } else {
-            let kk = KajiyaKay(base, material.lighting.primary_color, material.lighting.primary_exponent);
             c = kajiya_kay(kk, t, l, v) * light_radiance(light);
         }
         var visibility = 1.0;
@@ -87,6 +92,17 @@ fn shade_volume(x: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
         color = color * volume_ambient_occlusion(p);
     }
     return color;
+}
+
+// The transmittance at which a ray has reached the solid surface (1/256, `iso` strands in the
+// paper's count).
+const SOLID_TRANSMITTANCE: f32 = 1.0 / 256.0;
+
+// Voxels one pixel spans at voxel position `x` (its view depth over the camera's pixels per unit).
+fn pixel_voxels(x: vec3<f32>) -> f32 {
+    let p = x / volume_grid.scale + volume_grid.origin;
+    let depth = select(dot(p - camera.eye, camera.forward), 1.0, camera.orthographic != 0u);
+    return max(depth, 0.0) / camera.pixels_per_unit * volume_grid.scale;
 }
 
 fn block_occupied(x: vec3<f32>) -> bool {
@@ -125,6 +141,11 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     let step = length(hi - lo + vec3<f32>(2.0)) / f32(max(volume_params.steps, 1u));
     // Strands met, each weighed by its opacity fade (the length of the voxel's mean tangent).
     var strands = 0.0;
+    // Their optical depth as the strands' lines (`volume.opacity = "strands"`).
+    var optical = 0.0;
+    // Transmittance after the last sample (1 - alpha of a ray short of the surface: the
+    // paper's fake transparency).
+    var tr_end = 1.0;
     var hit = false;
     var solid = false;
     var first = vec3<f32>(0.0);
@@ -157,8 +178,17 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
             hit = true;
             first = x;
         }
-        strands = strands + v.a * length(v.rgb) * step;
-        let tr = composite_transmittance(strands, volume_params.iso);
+        let met = v.a * length(v.rgb) * step;
+        strands = strands + met;
+        var tr: f32;
+        if volume_params.optical_width > 0.0 {
+            optical = optical + strand_optical_depth(
+                met, v.rgb, dir, pixel_voxels(x), volume_params.optical_width);
+            tr = exp(-optical);
+        } else {
+            tr = composite_transmittance(strands, volume_params.iso);
+        }
+        tr_end = tr;
         loop {
             if m >= samples || !composite_point_reached(tr, m, samples) {
                 break;
@@ -166,7 +196,7 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
             points[m] = x;
             m = m + 1u;
         }
-        if strands >= volume_params.iso {
+        if tr <= SOLID_TRANSMITTANCE {
             solid = true;
             break;
         }
@@ -176,7 +206,7 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         discard;
     }
     // Fake transparency (§3.3) where the ray never reaches the surface.
-    let alpha = select(fake_transparency_alpha(strands, volume_params.iso), 1.0, solid);
+    let alpha = select(1.0 - tr_end, 1.0, solid);
     if alpha <= 1.0 / 1024.0 {
         discard;
     }

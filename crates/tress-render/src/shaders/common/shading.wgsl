@@ -46,6 +46,17 @@ fn kajiya_kay(kk: KajiyaKay, t: vec3f, l: vec3f, v: vec3f) -> vec3f {
         + kk.specular * kajiya_kay_specular(t, l, v, kk.exponent);
 }
 
+const TANGENT_SPREAD_WIDENING: f32 = 1.5;
+
+// Kajiya-Kay for strands shaded as one with their mean tangent's direction, the mean's length
+// telling their spread (Toksvig's trick on the cone lobe): p' = p / (1 + 1.5 p (1 - len)), the
+// specular colour times sqrt(p' / p).
+fn spread_kajiya_kay(kk: KajiyaKay, mean_length: f32) -> KajiyaKay {
+    let spread = 1.0 - clamp(mean_length, 0.0, 1.0);
+    let exponent = kk.exponent / (1.0 + TANGENT_SPREAD_WIDENING * kk.exponent * spread);
+    return KajiyaKay(kk.diffuse, kk.specular * sqrt(exponent / kk.exponent), exponent);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Scheuermann 2004, "Hair Rendering and Shading" slides (tress_shading::scheuermann)
 

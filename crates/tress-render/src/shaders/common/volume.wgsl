@@ -109,7 +109,9 @@ struct VolumeParams {
     occlusion_bias: f32,
     // Raymarch: points shaded per pixel, 1..=MAX_SHADE_SAMPLES.
     shade_samples: u32,
-    _pad0: u32,
+    // Raymarch under `volume.opacity = "strands"`: optical width of a strand line in pixels
+    // (tress_shading::line_optical_width); 0: the paper's `iso` count.
+    optical_width: f32,
     _pad1: u32,
     _pad2: u32,
 }
@@ -272,6 +274,33 @@ fn volume_sample(tex: texture_3d<f32>, samp: sampler, vt: VolumeTexels, x: vec3<
     return mix(mix(c00, c10, w.y), mix(c01, c11, w.y), w.z);
 }
 
+// How parallel the strands around `x` run: the length of the density-weighted trilinear mean of
+// the eight nearest texels' tangent directions (1: all along one line; the tip fade that scales the
+// texels' tangents does not enter).
+fn volume_tangent_coherence(tex: texture_3d<f32>, samp: sampler, vt: VolumeTexels, x: vec3<f32>) -> f32 {
+    let p = x - vec3<f32>(0.5);
+    let f = floor(p);
+    let w = p - f;
+    let last = vec3<i32>(i32(vt.res) - 1);
+    let i0 = clamp(vec3<i32>(f), vec3<i32>(0), last);
+    let i1 = clamp(vec3<i32>(f) + vec3<i32>(1), vec3<i32>(0), last);
+    var sum = vec3<f32>(0.0);
+    var weight = 0.0;
+    for (var k = 0u; k < 8u; k = k + 1u) {
+        let c = vec3<u32>(k & 1u, (k >> 1u) & 1u, (k >> 2u) & 1u);
+        let i = select(i0, i1, c == vec3<u32>(1u));
+        let tw = select(vec3<f32>(1.0) - w, w, c == vec3<u32>(1u));
+        let texel = decode_texel(textureLoad(tex, i, 0), vt.density_unit);
+        let len = length(texel.rgb);
+        if len > 1e-6 {
+            let wd = tw.x * tw.y * tw.z * texel.a;
+            sum = sum + wd * texel.rgb / len;
+            weight = weight + wd;
+        }
+    }
+    return select(1.0, length(sum) / weight, weight > 0.0);
+}
+
 fn volume_density(tex: texture_3d<f32>, samp: sampler, vt: VolumeTexels, x: vec3<f32>) -> f32 {
     return volume_sample(tex, samp, vt, x).a;
 }
@@ -364,6 +393,17 @@ fn composite_transmittance(strands: f32, iso: f32) -> f32 {
         return 0.0;
     }
     return exp2(-8.0 * max(strands, 0.0) / iso);
+}
+
+// Optical depth of `strands` met along an eye ray of direction `dir`, drawn as lines of optical
+// width `optical_width` pixels where a pixel spans `pixel_voxels` voxels: the projected length
+// `strands |t x dir|` (t the normalized mean `tangent`; none counts as across) times the width.
+fn strand_optical_depth(
+    strands: f32, tangent: vec3<f32>, dir: vec3<f32>, pixel_voxels: f32, optical_width: f32,
+) -> f32 {
+    let len = length(tangent);
+    let across = select(1.0, length(cross(tangent / len, dir)), len > 1e-6);
+    return strands * across * pixel_voxels * optical_width;
 }
 
 // Opacity of a ray that met `strands` strands without reaching the isosurface (fake transparency,
