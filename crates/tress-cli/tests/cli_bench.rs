@@ -214,10 +214,12 @@ fn quality_scores_every_technique_against_the_reference() {
     assert_eq!(rows.iter().filter(|r| r[4] == "ao").count(), 2);
     // The frame without its hair is the baseline over the hair's pixels (a blank or wrongly
     // coloured technique scores about as it does). Measured at this size (128x72, 4 spp) at 1x
-    // (all rows in tests/data/quality-128x72.csv): without hair 0.413; volume 0.257 and patches
-    // 0.230 beat it clearly; strands and hybrid 0.332 less so (the 1.5-pixel ribbons put down
-    // far more ink than the traced strands at this size); SATF 0.471 does worse than no hair at
-    // all, which this test records rather than bounds (issues 13 and 14).
+    // (all rows in tests/data/quality-128x72.csv): without hair 0.413; patches 0.230 beat it
+    // clearly; strands and hybrid 0.355 less so (the 1.5-pixel ribbons put down far more ink
+    // than the traced strands at this size), and the volume 0.365 with them: it is as opaque as
+    // the strands' lines (`volume.opacity = "strands"`; 0.257 with the paper's fixed `iso`
+    // count); SATF 0.471 does worse than no hair at all, which this test records rather than
+    // bounds (issues 13 and 14).
     for d in ["1", "3"] {
         let hair_flip = |t: &str| -> f64 {
             rows.iter()
@@ -229,7 +231,7 @@ fn quality_scores_every_technique_against_the_reference() {
         let none = hair_flip("none");
         let bounds = [
             ("strands", 0.97),
-            ("volume", 0.8),
+            ("volume", 0.97),
             ("hybrid", 0.97),
             ("patches", 0.8),
         ];

@@ -127,7 +127,9 @@ impl Renderer {
     /// With [`StatsReadback::Wait`] and a clearing frame (`inputs.clear` set), a frame that
     /// dropped PPLL fragments is rendered again with the grown pool, or with ShortCut when the
     /// pool's cap cannot hold it and `strands.oit` is `auto` (at most [`MAX_ATTEMPTS`] times in
-    /// all), so offline renders are complete; `FrameStats::attempts` says how many it took. A
+    /// all), so offline renders are complete; under `auto` a PPLL frame whose k-buffer merged
+    /// most fragments unsorted is drawn again with ShortCut
+    /// ([`crate::strands::oit::AUTO_TAIL_SHARE`]). `FrameStats::attempts` says how many it took. A
     /// frame drawn over the caller's content (`clear: None`) is never repeated: the next frame
     /// uses the grown pool or ShortCut.
     pub fn render(
@@ -163,12 +165,11 @@ impl Renderer {
             if let (StatsReadback::Wait, Some(i)) = (self.stats_readback, slot) {
                 report = self.ring.wait(ctx, &self.timer, i)?.or(report);
                 if let Some(r) = report.as_ref().filter(|r| r.frame == frame) {
-                    let lost = r.oit.is_some_and(|o| o.lost > 0);
-                    retry = self.oit.learn(ctx, &self.settings, r) && lost;
+                    retry = self.oit.learn(ctx, &self.settings, r);
                 }
             }
             if retry && inputs.clear.is_some() && attempts < MAX_ATTEMPTS {
-                tracing::debug!(frame, "fragments were lost: rendering the frame again");
+                tracing::debug!(frame, "fragments were lost or mostly unsorted: rendering the frame again");
                 continue;
             }
             return Ok(FrameStats {

@@ -233,6 +233,10 @@ impl ReadbackRing {
                         kind,
                         fragments: counters.requested,
                         lost: counters.dropped,
+                        tail: match kind {
+                            OitKind::Ppll => counters.tail,
+                            OitKind::Shortcut => 0,
+                        },
                         bytes,
                     });
                     let ppll_counters = match slot.oit {

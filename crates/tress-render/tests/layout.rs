@@ -142,7 +142,7 @@ fn gpu_types_match_wgsl() {
         &m,
         "PpllCounters",
         PpllCounters,
-        [requested, dropped, _pad0, _pad1]
+        [requested, dropped, tail, _pad1]
     );
     // ShortCut's counters are read back with the PPLL's layout.
     let text = shaders::compose("strands/shortcut_depth.wgsl").expect("composes");
@@ -151,7 +151,7 @@ fn gpu_types_match_wgsl() {
         &m,
         "ShortcutCounters",
         PpllCounters,
-        [requested, dropped, _pad0, _pad1]
+        [requested, dropped, tail, _pad1]
     );
 }
 

@@ -153,6 +153,8 @@ pub(crate) struct OitReport {
     pub(crate) bytes: u64,
     /// Strand fragments the OIT was given.
     pub(crate) fragments: u32,
+    /// PPLL: fragments merged unsorted behind their pixel's `k` nearest (0 for ShortCut).
+    pub(crate) tail: u32,
 }
 
 impl OitReport {
@@ -164,6 +166,7 @@ impl OitReport {
             lost: o.lost,
             bytes: o.bytes,
             fragments: o.fragments,
+            tail: o.tail,
         })
     }
 }

@@ -268,8 +268,8 @@ pub struct PpllCounters {
     pub requested: u32,
     /// Fragments dropped because the pool was full.
     pub dropped: u32,
-    /// Padding.
-    pub _pad0: u32,
+    /// Fragments the resolve merged unsorted behind their pixel's `k` nearest (the tail).
+    pub tail: u32,
     /// Padding.
     pub _pad1: u32,
 }

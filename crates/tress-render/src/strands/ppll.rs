@@ -213,7 +213,7 @@ mod tests {
         let c = PpllCounters {
             requested: 120,
             dropped: 20,
-            _pad0: 0,
+            tail: 0,
             _pad1: 0,
         };
         let s = PpllStats::from_counters(c, 100, 64);

@@ -38,6 +38,8 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     var near_node: array<u32, MAX_K>;
     var count = 0u;
     var tail = tail_empty();
+    // Fragments merged into the tail (counted once per pixel into `ppll_counters.tail`).
+    var merged = 0u;
     // A list can never be longer than the pool; the bound also guards against a corrupt list.
     var steps = 0u;
     while node != 0u && node <= params.node_capacity && steps < params.node_capacity {
@@ -48,6 +50,7 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         var insert = index;
         var depth = n.depth;
         if count == k {
+            merged = merged + 1u;
             if depth >= near_depth[k - 1u] {
                 let c = node_color(n);
                 tail = tail_accumulate(tail, c.rgb, c.a);
@@ -75,5 +78,8 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         acc = blend_front_to_back(acc, c.rgb, c.a);
     }
     acc = blend_under(acc, tail_resolve(tail));
+    if merged > 0u {
+        atomicAdd(&ppll_counters.tail, merged);
+    }
     return acc;
 }

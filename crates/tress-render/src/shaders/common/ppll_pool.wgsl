@@ -13,7 +13,8 @@ const NODE_CHUNKS: u32 = 4u;
 struct PpllCounters {
     requested: atomic<u32>,
     dropped: atomic<u32>,
-    _pad0: u32,
+    // Fragments the resolve merged unsorted behind each pixel's k nearest (the k-buffer's tail).
+    tail: atomic<u32>,
     _pad1: u32,
 }
 

@@ -15,7 +15,8 @@
 struct ShortcutCounters {
     requested: atomic<u32>,
     dropped: atomic<u32>,
-    _pad0: u32,
+    // The PPLL's tail count (read back with its layout); ShortCut leaves it 0.
+    tail: u32,
     _pad1: u32,
 }
 
