@@ -366,7 +366,10 @@ fn the_volume_follows_the_strands_from_near_to_far() {
     eprintln!("hair FLIP at 1x and 3x: strands' opacity {strands:?}, iso {iso:?}");
     // Measured on lavapipe: 0.100 and 0.065, against 0.307 and 0.395.
     for (i, (s, c)) in strands.iter().zip(&iso).enumerate() {
-        assert!(s < &(0.6 * c), "distance {i}: strands' opacity {s} vs iso {c}");
+        assert!(
+            s < &(0.6 * c),
+            "distance {i}: strands' opacity {s} vs iso {c}"
+        );
     }
     // The target: at most 0.15 near, and falling with distance.
     assert!(strands[0] < 0.15 && strands[1] < strands[0], "{strands:?}");

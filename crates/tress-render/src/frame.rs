@@ -169,7 +169,10 @@ impl Renderer {
                 }
             }
             if retry && inputs.clear.is_some() && attempts < MAX_ATTEMPTS {
-                tracing::debug!(frame, "fragments were lost or mostly unsorted: rendering the frame again");
+                tracing::debug!(
+                    frame,
+                    "fragments were lost or mostly unsorted: rendering the frame again"
+                );
                 continue;
             }
             return Ok(FrameStats {

@@ -274,14 +274,28 @@ fn auto_leaves_the_ppll_when_most_fragments_fall_into_its_tail() {
     let Some(ctx) = common::gpu() else { return };
     let layers = LAYERS.len() as u32;
     for k in [1, 2, 4, 6, 8] {
-        let (_, stats) = render(&ctx, StrandSettings { k, ..flat(Oit::Ppll) }, 1);
+        let (_, stats) = render(
+            &ctx,
+            StrandSettings {
+                k,
+                ..flat(Oit::Ppll)
+            },
+            1,
+        );
         let oit = stats[0].gpu.as_ref().and_then(|g| g.oit).expect("oit");
         assert_eq!(oit.kind, OitKind::Ppll);
         assert_eq!(oit.tail, layers.saturating_sub(k) * SIZE * 32, "k = {k}");
     }
     // k = 1: 5 of the 6 layers (83%) are the tail, so the frame is drawn again with ShortCut,
     // and the next frame (as many fragments) stays with it.
-    let (img, stats) = render(&ctx, StrandSettings { k: 1, ..flat(Oit::Auto) }, 2);
+    let (img, stats) = render(
+        &ctx,
+        StrandSettings {
+            k: 1,
+            ..flat(Oit::Auto)
+        },
+        2,
+    );
     for (s, attempts) in stats.iter().zip([2, 1]) {
         let oit = s.gpu.as_ref().and_then(|g| g.oit).expect("oit");
         assert_eq!(
@@ -294,7 +308,14 @@ fn auto_leaves_the_ppll_when_most_fragments_fall_into_its_tail() {
     let (shortcut, _) = render(&ctx, flat(Oit::Shortcut), 1);
     assert_eq!(img, shortcut, "auto's frame is ShortCut's frame");
     // k = 2: 4 of 6 (67%) are the tail, under the 75% share: the paper's PPLL stays.
-    let (_, stats) = render(&ctx, StrandSettings { k: 2, ..flat(Oit::Auto) }, 1);
+    let (_, stats) = render(
+        &ctx,
+        StrandSettings {
+            k: 2,
+            ..flat(Oit::Auto)
+        },
+        1,
+    );
     let oit = stats[0].gpu.as_ref().and_then(|g| g.oit).expect("oit");
     assert_eq!((oit.kind, stats[0].attempts), (OitKind::Ppll, 1));
     assert!(tress_render::strands::oit::AUTO_TAIL_SHARE > 4.0 / 6.0);

@@ -235,7 +235,14 @@ fn volume_functions_match_the_cpu_twins() {
         );
         close("strand_optical_depth", i, r[8][0], optical, 1e-5, 1e-4);
         let coherence = cpu::volume_tangent_coherence(&tangents, x);
-        close("volume_tangent_coherence", i, r[8][1], coherence, 1e-4, 1e-4);
+        close(
+            "volume_tangent_coherence",
+            i,
+            r[8][1],
+            coherence,
+            1e-4,
+            1e-4,
+        );
         coherences.push(coherence);
         let g = cpu::density_gradient(&vol, x);
         for k in 0..3 {

@@ -255,7 +255,12 @@ mod tests {
         assert_eq!(spread_kajiya_kay(&kk, 1.5), kk);
         let half = spread_kajiya_kay(&kk, 1.0 - 1.0 / (TANGENT_SPREAD_WIDENING * kk.exponent));
         assert!((half.exponent - kk.exponent / 2.0).abs() < 1e-3);
-        assert!((half.specular - kk.specular * 0.5f32.sqrt()).abs().max_element() < 1e-5);
+        assert!(
+            (half.specular - kk.specular * 0.5f32.sqrt())
+                .abs()
+                .max_element()
+                < 1e-5
+        );
         assert_eq!(half.diffuse, kk.diffuse);
         let none = spread_kajiya_kay(&kk, -1.0);
         assert!(none.exponent < 1.0 && none.exponent > 0.0);

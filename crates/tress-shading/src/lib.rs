@@ -131,11 +131,10 @@ pub use shortcut::{
     shortcut_key_depth, shortcut_layer_alpha, shortcut_tail_falloff, shortcut_tail_weight,
 };
 pub use volume::{
-    DensityVolume, NO_CAP, VolumeSizeError, ao_offset, composite_point_reached,
+    DensityVolume, NO_CAP, TexelVolume, VolumeSizeError, ao_offset, composite_point_reached,
     composite_transmittance, density_gradient, density_normal, dither_threshold,
-    TexelVolume, fake_transparency_alpha, line_optical_width, lod_factor, ray_box,
-    strand_optical_depth, volume_adsm_visibility, volume_ao, volume_shadow_strands,
-    volume_tangent_coherence,
+    fake_transparency_alpha, line_optical_width, lod_factor, ray_box, strand_optical_depth,
+    volume_adsm_visibility, volume_ao, volume_shadow_strands, volume_tangent_coherence,
 };
 pub use voxelize::{
     VoxelCounts, VoxelGrid, VoxelValue, VoxelizeMode, dequantize_tangent, quantize_tangent,

@@ -600,7 +600,10 @@ mod tests {
                     })
                     .sum();
                 let w = line_optical_width(alpha, width, true);
-                assert!((w - integral).abs() < 1e-3 * integral, "{alpha} {width}: {w} vs {integral}");
+                assert!(
+                    (w - integral).abs() < 1e-3 * integral,
+                    "{alpha} {width}: {w} vs {integral}"
+                );
                 let flat = line_optical_width(alpha, width, false);
                 assert!((flat - width * -(1.0 - alpha).ln()).abs() < 1e-5);
                 assert!(flat > w, "coverage thins the line");
@@ -636,14 +639,21 @@ mod tests {
         let x = Vec3::splat(2.0);
         // Parallel, with tip-faded lengths and empty texels between: coherent.
         let parallel = texels(&|i| {
-            (Vec3::new(1.0, 1.0, 0.0).normalize() * (0.3 + 0.1 * (i % 5) as f32), 3 * (i % 2))
+            (
+                Vec3::new(1.0, 1.0, 0.0).normalize() * (0.3 + 0.1 * (i % 5) as f32),
+                3 * (i % 2),
+            )
         });
         let vol = TexelVolume::new(res, &parallel, 1.0).unwrap();
         assert!((volume_tangent_coherence(&vol, x) - 1.0).abs() < 0.01);
         // Alternating between two directions 90° apart: |mean| = cos 45°.
         let crossed = texels(&|i| {
             let (ix, iy, iz) = (i % res, (i / res) % res, i / (res * res));
-            let t = if (ix + iy + iz) % 2 == 0 { Vec3::X } else { Vec3::Y };
+            let t = if (ix + iy + iz) % 2 == 0 {
+                Vec3::X
+            } else {
+                Vec3::Y
+            };
             (t, 2)
         });
         let vol = TexelVolume::new(res, &crossed, 1.0).unwrap();
@@ -652,7 +662,11 @@ mod tests {
         // A denser texel pulls the mean towards its direction.
         let weighted = texels(&|i| {
             let (ix, iy, iz) = (i % res, (i / res) % res, i / (res * res));
-            if (ix + iy + iz) % 2 == 0 { (Vec3::X, 30) } else { (Vec3::Y, 1) }
+            if (ix + iy + iz) % 2 == 0 {
+                (Vec3::X, 30)
+            } else {
+                (Vec3::Y, 1)
+            }
         });
         let vol = TexelVolume::new(res, &weighted, 1.0).unwrap();
         assert!(volume_tangent_coherence(&vol, x) > 0.95);
