@@ -225,7 +225,11 @@ fn volume_functions_match_the_cpu_twins() {
                 1e-4,
             );
         }
-        let tangent = if n % 8 == 0 { Vec3::ZERO } else { l * c.ao[3] };
+        let tangent = if n.is_multiple_of(8) {
+            Vec3::ZERO
+        } else {
+            l * c.ao[3]
+        };
         let optical = cpu::strand_optical_depth(
             c.s[0],
             tangent,
