@@ -59,6 +59,21 @@ pub struct VolumeSizeError {
     pub got: usize,
 }
 
+impl VolumeSizeError {
+    /// `Ok` when `len` values fill a `res³ > 0` volume.
+    fn check(res: u32, len: usize) -> Result<(), VolumeSizeError> {
+        let expected = u64::from(res).pow(3);
+        if expected == 0 || len as u64 != expected {
+            return Err(VolumeSizeError {
+                res,
+                expected,
+                got: len,
+            });
+        }
+        Ok(())
+    }
+}
+
 /// A read-only `res³` density volume: the CPU stand-in for the density channel of the 3D texture
 /// sampled with a linear, clamp-to-edge sampler. `density[x + res · (y + res · z)]`.
 #[derive(Clone, Copy, Debug)]
@@ -70,14 +85,7 @@ pub struct DensityVolume<'a> {
 impl<'a> DensityVolume<'a> {
     /// A view of `density`, checked to hold `res³ > 0` values.
     pub fn new(res: u32, density: &'a [f32]) -> Result<Self, VolumeSizeError> {
-        let expected = u64::from(res).pow(3);
-        if expected == 0 || density.len() as u64 != expected {
-            return Err(VolumeSizeError {
-                res,
-                expected,
-                got: density.len(),
-            });
-        }
+        VolumeSizeError::check(res, density.len())?;
         Ok(DensityVolume { res, density })
     }
 
@@ -132,14 +140,7 @@ impl<'a> TexelVolume<'a> {
         texels: &'a [[u8; 4]],
         density_unit: f32,
     ) -> Result<Self, VolumeSizeError> {
-        let expected = u64::from(res).pow(3);
-        if expected == 0 || texels.len() as u64 != expected {
-            return Err(VolumeSizeError {
-                res,
-                expected,
-                got: texels.len(),
-            });
-        }
+        VolumeSizeError::check(res, texels.len())?;
         Ok(TexelVolume {
             res,
             texels,

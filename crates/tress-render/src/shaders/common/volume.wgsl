@@ -246,18 +246,35 @@ fn volume_texels(grid: VolumeGrid) -> VolumeTexels {
     return VolumeTexels(f32(grid.res), grid.density_unit);
 }
 
+// The eight texels around voxel position `x` (the corners `i0` and `i1`, clamped to the edge)
+// and the trilinear weights `w` of the `i1` side (texel centres at `i + 1/2`).
+struct TrilinearCell {
+    i0: vec3<i32>,
+    i1: vec3<i32>,
+    w: vec3<f32>,
+}
+
+fn trilinear_cell(vt: VolumeTexels, x: vec3<f32>) -> TrilinearCell {
+    let p = x - vec3<f32>(0.5);
+    let f = floor(p);
+    let last = vec3<i32>(i32(vt.res) - 1);
+    return TrilinearCell(
+        clamp(vec3<i32>(f), vec3<i32>(0), last),
+        clamp(vec3<i32>(f) + vec3<i32>(1), vec3<i32>(0), last),
+        p - f,
+    );
+}
+
 // The mean tangent (rgb) and the density (a) at voxel position `x`, trilinearly filtered in the
 // shader from the eight texels around it (clamped to the edge, as the sampler would), each decoded
 // first: the texels' tangents are not linear in what they hold, and hardware filters of 8-bit
 // texels may round the result to 8 bits (lavapipe does), which would round every density between
 // two voxels to a whole strand. `samp` is unused (kept for the callers' one signature).
 fn volume_sample(tex: texture_3d<f32>, samp: sampler, vt: VolumeTexels, x: vec3<f32>) -> vec4<f32> {
-    let p = x - vec3<f32>(0.5);
-    let f = floor(p);
-    let w = p - f;
-    let last = vec3<i32>(i32(vt.res) - 1);
-    let i0 = clamp(vec3<i32>(f), vec3<i32>(0), last);
-    let i1 = clamp(vec3<i32>(f) + vec3<i32>(1), vec3<i32>(0), last);
+    let cell = trilinear_cell(vt, x);
+    let i0 = cell.i0;
+    let i1 = cell.i1;
+    let w = cell.w;
     let u = vt.density_unit;
     let c000 = decode_texel(textureLoad(tex, vec3<i32>(i0.x, i0.y, i0.z), 0), u);
     let c100 = decode_texel(textureLoad(tex, vec3<i32>(i1.x, i0.y, i0.z), 0), u);
@@ -278,18 +295,13 @@ fn volume_sample(tex: texture_3d<f32>, samp: sampler, vt: VolumeTexels, x: vec3<
 // the eight nearest texels' tangent directions (1: all along one line; the tip fade that scales the
 // texels' tangents does not enter).
 fn volume_tangent_coherence(tex: texture_3d<f32>, samp: sampler, vt: VolumeTexels, x: vec3<f32>) -> f32 {
-    let p = x - vec3<f32>(0.5);
-    let f = floor(p);
-    let w = p - f;
-    let last = vec3<i32>(i32(vt.res) - 1);
-    let i0 = clamp(vec3<i32>(f), vec3<i32>(0), last);
-    let i1 = clamp(vec3<i32>(f) + vec3<i32>(1), vec3<i32>(0), last);
+    let cell = trilinear_cell(vt, x);
     var sum = vec3<f32>(0.0);
     var weight = 0.0;
     for (var k = 0u; k < 8u; k = k + 1u) {
         let c = vec3<u32>(k & 1u, (k >> 1u) & 1u, (k >> 2u) & 1u);
-        let i = select(i0, i1, c == vec3<u32>(1u));
-        let tw = select(vec3<f32>(1.0) - w, w, c == vec3<u32>(1u));
+        let i = select(cell.i0, cell.i1, c == vec3<u32>(1u));
+        let tw = select(vec3<f32>(1.0) - cell.w, cell.w, c == vec3<u32>(1u));
         let texel = decode_texel(textureLoad(tex, i, 0), vt.density_unit);
         let len = length(texel.rgb);
         if len > 1e-6 {
