@@ -141,13 +141,14 @@ fn satf_hair_lies_inside_the_strands_silhouette() {
         .count();
     let iou = inter as f64 / union.max(1) as f64;
     eprintln!("SATF's hair mask against the strands': IoU {iou:.3}");
-    // Measured on lavapipe: 13 of 1,378 pixels (0.94%) outside, at the crown, where the ring at
-    // the roots of a group spanning a curved patch of scalp stands off it (the fit before issue
-    // 13 drew fans and spikes far outside: 70% on a real ponytail). Some room for other
-    // rasterizers.
-    assert!(iou >= 0.8, "IoU {iou} with the strands' hair mask");
+    // Measured on lavapipe: none of 1,313 pixels outside and IoU 0.923. Before groups of 8 to 15
+    // strands could be split (step 7 of the fit), 4 of 1,421 lay outside at the tie: a group
+    // of 15 strands from two patches of scalp (the side of the head and the back) converging there,
+    // whose shell spanned the gap between them. The fit before issue 13 drew fans and spikes far
+    // outside: 70% on a real ponytail.
+    assert!(iou >= 0.9, "IoU {iou} with the strands' hair mask");
     assert!(
-        stray * 1000 <= 15 * drawn,
+        stray == 0,
         "{stray} of SATF's {drawn} hair pixels ({:.2}%) lie outside the strands' silhouette \
          dilated by {DILATION} px (red in {})",
         100.0 * stray as f64 / drawn as f64,

@@ -64,7 +64,7 @@
 //!    lies farther from every strand than [`FitSettings::stray_split`] (0.75) of the
 //!    cross-section's larger half-axis there (and than ten minimum half-axes: 1% of the hair's
 //!    diagonal by default, a pixel or two, not worth a cluster), the group is cut in two at its
-//!    widest gap (as in step 2) and both halves are fitted again, down to groups of 8 strands.
+//!    widest gap (as in step 2) and both halves are fitted again, down to groups of 4 strands.
 //!    Halving a patch's width quarters its sagitta. The groups are split in rounds, the worst
 //!    first, while the clusters number at most [`FitSettings::max_clusters`] (512): each
 //!    cluster's layer mesh takes GPU memory, and splitting every group of a 50,000-strand asset
@@ -112,7 +112,7 @@ use crate::hierarchy::{
 pub use group::{group_strands, resample};
 
 /// Groups are not split below this many strands (step 7).
-const MIN_SPLIT_STRANDS: usize = 8;
+const MIN_SPLIT_STRANDS: usize = 4;
 /// Default smallest half-axis, as a fraction of the diagonal of the hair's bounding box.
 pub const MIN_RADIUS_FRACTION: f32 = 1e-3;
 /// Most control points a trajectory gets when the setting's number misses the strands' mean.

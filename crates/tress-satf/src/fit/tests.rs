@@ -533,3 +533,38 @@ fn splitting_stays_within_the_cluster_budget() {
         .is_err()
     );
 }
+
+#[test]
+fn a_small_group_from_two_patches_is_split() {
+    // Twelve strands from two patches of scalp 5 units apart (the side of the head and the
+    // back) gathered into one tie, as at a ponytail's tie: one cluster's shell would span the
+    // gap between the patches, where no strand is. Groups this small are split too.
+    let mut rng = Rng::new(5);
+    let tie = Vec3::new(1.5, 3.0, -10.0);
+    let strands: Vec<Vec<Vec3>> = (0..12)
+        .map(|i| {
+            let patch = if i % 2 == 0 {
+                Vec3::new(8.0, 0.0, 0.0)
+            } else {
+                Vec3::new(6.5, 0.0, -5.0)
+            };
+            let root = patch + Vec3::new(0.0, rng.range(-0.5, 0.5), rng.range(-0.5, 0.5));
+            let end = tie + Vec3::new(rng.range(-0.2, 0.2), -12.0, rng.range(-0.2, 0.2));
+            let mut s: Vec<Vec3> = (0..8).map(|k| root.lerp(tie, k as f32 / 8.0)).collect();
+            s.extend((0..=8).map(|k| tie.lerp(end, k as f32 / 8.0)));
+            s
+        })
+        .collect();
+    let asset = asset_of(strands.clone()).unwrap();
+    let vol = fit_clusters(&asset, &FitSettings::default()).unwrap();
+    assert!(
+        vol.macro_clusters.len() >= 2,
+        "one cluster for both patches"
+    );
+    let worst = vol
+        .macro_clusters
+        .iter()
+        .flat_map(|m| shell_distances(m, &strands))
+        .fold(0.0f32, f32::max);
+    assert!(worst < 1.5, "a shell point lies {worst} from every strand");
+}
