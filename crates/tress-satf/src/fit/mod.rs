@@ -63,10 +63,12 @@
 //!    whatever the split) is measured against the group's strands, and where some shell point
 //!    lies farther from every strand than [`FitSettings::stray_split`] (0.75) of the
 //!    cross-section's larger half-axis there (and than ten minimum half-axes: 1% of the hair's
-//!    diagonal by default, a pixel or two, not worth a cluster), the group is cut in two at its
+//!    diagonal by default, a pixel or two, not worth a cluster), or farther than twenty minimum
+//!    half-axes (2% of the diagonal: a wide, flat root ring across a curved patch, small next
+//!    to its own half-axis but pixels off the hair's silhouette), the group is cut in two at its
 //!    widest gap (as in step 2) and both halves are fitted again, down to groups of 4 strands.
 //!    Halving a patch's width quarters its sagitta. The groups are split in rounds, the worst
-//!    first, while the clusters number at most [`FitSettings::max_clusters`] (512): each
+//!    first (by the larger of the two distances, each over its threshold), while the clusters number at most [`FitSettings::max_clusters`] (512): each
 //!    cluster's layer mesh takes GPU memory, and splitting every group of a 50,000-strand asset
 //!    to the end gives thousands.
 //!
@@ -144,7 +146,8 @@ pub struct FitSettings {
     /// How the twist acts. Default [`TwistMode::RotateAxes`].
     pub twist_mode: TwistMode,
     /// Split a group in two while some point of its shell lies farther from every strand than
-    /// this fraction of the cross-section's larger half-axis there (step 7; 0: never split).
+    /// this fraction of the cross-section's larger half-axis there, or than twenty minimum
+    /// half-axes (step 7; 0: never split).
     /// Default 0.75.
     pub stray_split: f32,
     /// Most clusters step 7 splits groups into (each cluster's layer mesh takes GPU memory);

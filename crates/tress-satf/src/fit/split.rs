@@ -8,6 +8,11 @@ use super::{FitSettings, MIN_SPLIT_STRANDS, fit_cluster, group_strands, stray};
 use crate::error::SatfError;
 use crate::hierarchy::MacroCluster;
 
+/// A shell point farther than this many minimum half-axes from every strand (by default 2% of
+/// the hair's diagonal, a few pixels where the hair fills a small frame) strays whatever the
+/// cross-section's size: a wide, flat root ring across a curved patch of scalp.
+const STRAY_RADII: f32 = 20.0;
+
 /// A fitted group: its strands (indices into the resampled strands), its cluster and how far
 /// its shell strays (0 when it is not to be split).
 struct Fitted {
@@ -30,7 +35,7 @@ pub(super) fn fit_groups(
     loop {
         let mut room = (settings.max_clusters as usize).saturating_sub(fitted.len());
         let mut worst: Vec<usize> = (0..fitted.len())
-            .filter(|&i| fitted[i].stray > settings.stray_split)
+            .filter(|&i| fitted[i].stray > 1.0)
             .collect();
         worst.sort_by(|&a, &b| fitted[b].stray.total_cmp(&fitted[a].stray));
         let mut halves = Vec::new();
@@ -81,7 +86,10 @@ fn fit_all(
                     let splittable =
                         strands.len() >= 2 * MIN_SPLIT_STRANDS && settings.stray_split > 0.0;
                     let stray = if splittable {
-                        stray::stray_ratio(&cluster, &strands, floor).unwrap_or(0.0)
+                        stray::stray_ratio(&cluster, &strands, floor).map_or(0.0, |(r, d)| {
+                            (r / settings.stray_split)
+                                .max(d / (STRAY_RADII * floor.max(f32::MIN_POSITIVE)))
+                        })
                     } else {
                         0.0
                     };

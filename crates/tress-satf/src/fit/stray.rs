@@ -25,12 +25,13 @@ const SHELL_U: usize = 16;
 /// are staggered it closes over the one farthest tip while the cross-section there is sized by
 /// the tips near it, however few strands the group holds; splitting cannot shrink that (it is
 /// not a sheet's sagitta), the profile's end limits bound it and the module's tests check it.
-pub(super) fn stray_ratio(m: &MacroCluster, strands: &[&[Vec3]], floor: f32) -> Option<f32> {
+pub(super) fn stray_ratio(m: &MacroCluster, strands: &[&[Vec3]], floor: f32) -> Option<(f32, f32)> {
     if strands.len() < 2 {
         return None;
     }
     let (g, c) = (&m.geometry, m.clusters.first()?);
     let mut worst = 0.0f32;
+    let mut farthest = 0.0f32;
     let rings = std::iter::once(0.0).chain((0..SHELL_T).map(|i| (i as f32 + 0.5) / SHELL_T as f32));
     for t in rings {
         let (a, b, _) = g.profile(t);
@@ -44,10 +45,11 @@ pub(super) fn stray_ratio(m: &MacroCluster, strands: &[&[Vec3]], floor: f32) -> 
                 .fold(f32::INFINITY, f32::min);
             if d > NEGLIGIBLE_RADII * floor {
                 worst = worst.max(d / size);
+                farthest = farthest.max(d);
             }
         }
     }
-    Some(worst)
+    Some((worst, farthest))
 }
 
 /// Distance from `p` to the polyline `s`.
