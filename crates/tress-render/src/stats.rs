@@ -18,8 +18,9 @@ pub enum StatsReadback {
     /// tests, benchmarks).
     #[default]
     Wait,
-    /// Never block: report the newest frame whose results have arrived (interactive use; the
-    /// report lags a frame or two behind).
+    /// Never block: report the newest earlier frame whose results have arrived, read before
+    /// the frame is submitted (interactive use; the report lags a frame or two behind and is
+    /// never the frame's own).
     Deferred,
 }
 

@@ -345,6 +345,11 @@ impl PatchRenderer {
 
         let frame = self.frame;
         self.frame += 1;
+        // Deferred: the newest earlier frame's results, read before this one is submitted.
+        let earlier = match self.stats_readback {
+            StatsReadback::Deferred => self.ring.harvest(ctx, &self.timer)?,
+            StatsReadback::Wait => None,
+        };
         let slot = self.ring.idle();
         let scheme = self.settings.scheme;
         let patches = inputs.patches.filter(|p| p.triangle_count() > 0);
@@ -407,7 +412,8 @@ impl PatchRenderer {
 
         let report = match (self.stats_readback, slot) {
             (StatsReadback::Wait, Some(i)) => self.ring.wait(ctx, &self.timer, i)?,
-            _ => self.ring.harvest(ctx, &self.timer)?,
+            (StatsReadback::Wait, None) => self.ring.harvest(ctx, &self.timer)?,
+            (StatsReadback::Deferred, _) => earlier,
         };
         Ok(PatchFrameStats {
             frame,

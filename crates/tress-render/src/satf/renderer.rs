@@ -392,6 +392,12 @@ impl SatfRenderer {
                 timer.compute_writes(name, begin, end)
             }
         };
+        // Deferred: the newest earlier frame's results, read before this one is submitted (as
+        // the strands' frame does), so a deferred frame never reports itself.
+        let earlier = match self.stats_readback {
+            StatsReadback::Deferred => self.ring.harvest(ctx, &self.timer)?,
+            StatsReadback::Wait => None,
+        };
         let ring = &mut self.ring;
         let slot = ring.idle();
         let wall_times =
@@ -484,7 +490,8 @@ impl SatfRenderer {
         // ---- this frame's results (Wait), or the newest that arrived (Deferred)
         let report = match (self.stats_readback, slot) {
             (StatsReadback::Wait, Some(i)) => self.ring.wait(ctx, &self.timer, i)?,
-            _ => self.ring.harvest(ctx, &self.timer)?,
+            (StatsReadback::Wait, None) => self.ring.harvest(ctx, &self.timer)?,
+            (StatsReadback::Deferred, _) => earlier,
         };
         let counters = report.as_ref().and_then(|r| r.satf).unwrap_or_default();
         let timings = match (wall_times, &report) {
