@@ -487,7 +487,7 @@ impl SatfRenderer {
                 Ok(stages.wall.map(|(_, times)| times))
             })??;
 
-        // ---- this frame's results (Wait), or the newest that arrived (Deferred)
+        // ---- this frame's results (Wait), or the newest earlier one read above (Deferred)
         let report = match (self.stats_readback, slot) {
             (StatsReadback::Wait, Some(i)) => self.ring.wait(ctx, &self.timer, i)?,
             (StatsReadback::Wait, None) => self.ring.harvest(ctx, &self.timer)?,

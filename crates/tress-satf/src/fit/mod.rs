@@ -68,9 +68,9 @@
 //!    to its own half-axis but pixels off the hair's silhouette), the group is cut in two at its
 //!    widest gap (as in step 2) and both halves are fitted again, down to groups of 4 strands.
 //!    Halving a patch's width quarters its sagitta. The groups are split in rounds, the worst
-//!    first (by the larger of the two distances, each over its threshold), while the clusters number at most [`FitSettings::max_clusters`] (512): each
-//!    cluster's layer mesh takes GPU memory, and splitting every group of a 50,000-strand asset
-//!    to the end gives thousands.
+//!    first (by the larger of the two distances, each over its threshold), while the clusters
+//!    number at most [`FitSettings::max_clusters`] (512): each cluster's layer mesh takes GPU
+//!    memory, and splitting every group of a 50,000-strand asset to the end gives thousands.
 //!
 //! A group whose strands give no trajectory (their mean has no length, e.g. strands leaving one
 //! root in opposite directions) is fitted strand by strand instead; a strand that cannot carry a
@@ -147,8 +147,7 @@ pub struct FitSettings {
     pub twist_mode: TwistMode,
     /// Split a group in two while some point of its shell lies farther from every strand than
     /// this fraction of the cross-section's larger half-axis there, or than twenty minimum
-    /// half-axes (step 7; 0: never split).
-    /// Default 0.75.
+    /// half-axes (step 7; 0: never split). Default 0.75.
     pub stray_split: f32,
     /// Most clusters step 7 splits groups into (each cluster's layer mesh takes GPU memory);
     /// the groups of step 2 are all kept even above it. Default 512.

@@ -8,13 +8,8 @@ use super::{FitSettings, MIN_SPLIT_STRANDS, fit_cluster, group_strands, stray};
 use crate::error::SatfError;
 use crate::hierarchy::MacroCluster;
 
-/// A shell point farther than this many minimum half-axes from every strand (by default 2% of
-/// the hair's diagonal, a few pixels where the hair fills a small frame) strays whatever the
-/// cross-section's size: a wide, flat root ring across a curved patch of scalp.
-const STRAY_RADII: f32 = 20.0;
-
 /// A fitted group: its strands (indices into the resampled strands), its cluster and how far
-/// its shell strays (0 when it is not to be split).
+/// its shell strays over the threshold ([`stray::stray_score`]; 0 when it is not to be split).
 struct Fitted {
     strands: Vec<u32>,
     cluster: MacroCluster,
@@ -23,7 +18,7 @@ struct Fitted {
 
 /// The clusters of `groups` (indices into `kept`) and the number of strands that could not be
 /// fitted. In rounds, the groups whose shell strays by more than [`FitSettings::stray_split`]
-/// are cut in two, the worst first, as long as the clusters stay within
+/// of its half-axis or than 2% of the hair's diagonal are cut in two, the worst first, as long as the clusters stay within
 /// [`FitSettings::max_clusters`] (the groups of step 2 are all kept, even above it; a half
 /// without a trajectory, fitted strand by strand, may also go past it).
 pub(super) fn fit_groups(
@@ -86,10 +81,7 @@ fn fit_all(
                     let splittable =
                         strands.len() >= 2 * MIN_SPLIT_STRANDS && settings.stray_split > 0.0;
                     let stray = if splittable {
-                        stray::stray_ratio(&cluster, &strands, floor).map_or(0.0, |(r, d)| {
-                            (r / settings.stray_split)
-                                .max(d / (STRAY_RADII * floor.max(f32::MIN_POSITIVE)))
-                        })
+                        stray::stray_score(&cluster, &strands, floor, settings.stray_split)
                     } else {
                         0.0
                     };
