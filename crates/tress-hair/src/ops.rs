@@ -125,6 +125,21 @@ impl HairAsset {
         self.select_strands(&kept)
     }
 
+    /// The strands `strands` (a range of strand indices) as an asset of their own, with their
+    /// attributes: one `[[hair]]` entry of an asset the entries were merged into.
+    pub fn strand_span(&self, strands: std::ops::Range<usize>) -> Result<HairAsset, HairError> {
+        if strands.is_empty() || strands.end > self.strand_count() {
+            return Err(HairError::Parameter(format!(
+                "strands {}..{} of an asset with {}",
+                strands.start,
+                strands.end,
+                self.strand_count()
+            )));
+        }
+        let kept: Vec<u32> = (strands.start as u32..strands.end as u32).collect();
+        self.select_strands(&kept)
+    }
+
     /// The strands with the given indices (sorted, in range), with their attributes.
     fn select_strands(&self, kept: &[u32]) -> Result<HairAsset, HairError> {
         let ranges: Vec<std::ops::Range<usize>> = kept

@@ -133,6 +133,7 @@ fn main() -> anyhow::Result<()> {
             b: 0.18,
             a: 1.0,
         }),
+        objects: &[],
     };
     println!(
         "{} strands x {} vertices = {} segments at {}x{}",

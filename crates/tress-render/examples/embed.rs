@@ -125,6 +125,7 @@ fn main() -> anyhow::Result<()> {
             b: 0.25,
             a: 1.0,
         }),
+        objects: &[],
     };
     let stats = renderer.render(
         &ctx,

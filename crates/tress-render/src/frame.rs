@@ -1,29 +1,46 @@
 //! A whole frame, top to bottom: [`Renderer::render`].
 //!
 //! ```text
-//! plan         technique + LOD factor f: strands (f < 1), volume (f > 0), voxelize?
-//! uniforms     camera, strand params, lights (+ their shadow cameras), material, volume params
-//! voxelize     hair AABB, grid, counters, resolve into the 3D volume (Voxelizer, §3.3)
-//! shadow       per light: head + hair depth from the light (ADSM only) (ShadowMap, §3.4)
-//! head         clear (optional), opaque head with depth writes      (HeadPass)
-//! oit          strands -> shaded, coverage-weighted fragments, either
-//!   ppll_build       into per-pixel lists                        (PpllBuild, §3.1-3.2)
-//!   ppll_resolve     k nearest sorted + order-independent tail   (PpllResolve, §3.2)
-//! or (ShortCut, strands::oit)
-//!   shortcut_depth   k nearest depths per pixel                  (ShortcutDepth)
-//!   shortcut_shade   those k shaded, the rest's transmittance    (ShortcutShade)
-//!   shortcut_resolve k sorted + the tail, over head              (ShortcutResolve)
-//! raymarch     hair box -> isosurface, shaded                       (Raymarch, §3.3-3.4)
-//! lod_blend    0 < f < 1: strands and volume layers mixed over head (LodBlend, §3, §4)
-//! readback     OIT + voxel counters + timestamps -> FrameStats; grow the pool or switch OIT
+//! plan         per head of hair: technique (auto: by its size on screen) + LOD factor f:
+//!              strands (f < 1), volume (f > 0), voxelize?; volumes over the budget -> strands
+//! uniforms     camera, lights (+ their shadow cameras) once; per head of hair its strand params,
+//!              material and volume params
+//! voxelize     per voxelized head of hair: AABB, grid, shared counters, resolve into its own
+//!              3D volume (Voxelizer, §3.3)
+//! shadow       per light: heads + every rasterized hair's depth from the light (ADSM, §3.4)
+//! head         clear (optional), opaque heads with depth writes   (HeadPass)
+//! one head of hair:
+//!   oit          strands -> shaded, coverage-weighted fragments, either
+//!     ppll_build       into per-pixel lists                        (PpllBuild, §3.1-3.2)
+//!     ppll_resolve     k nearest sorted + order-independent tail   (PpllResolve, §3.2)
+//!   or (ShortCut, strands::oit)
+//!     shortcut_depth   k nearest depths per pixel                  (ShortcutDepth)
+//!     shortcut_shade   those k shaded, the rest's transmittance    (ShortcutShade)
+//!     shortcut_resolve k sorted + the tail, over head              (ShortcutResolve)
+//!   raymarch     hair box -> isosurface, shaded                     (Raymarch, §3.3-3.4)
+//!   lod_blend    0 < f < 1: strands and volume layers mixed over head (LodBlend, §3, §4)
+//! several heads of hair (characters):
+//!   raymarch     each volume (and dithered hybrid) far to near, over the target
+//!   oit          every rasterized head of hair in one OIT, resolved over the target
+//! readback     OIT + each volume's counters + timestamps -> FrameStats; grow the pool or
+//!              switch OIT
 //! ```
 //!
-//! At `f = 0` the strand passes draw straight into the target, at `f = 1` the raymarch does; only
-//! in between do both draw into scratch layers that `lod_blend` mixes (see [`crate::lod`]).
+//! With one head of hair, at `f = 0` the strand passes draw straight into the target, at `f = 1`
+//! the raymarch does; only in between do both draw into scratch layers that `lod_blend` mixes
+//! (see [`crate::lod`]). With several, a hybrid head of hair uses the paper's dithered transition
+//! in the frame itself (its strands in the shared OIT, its volume in the other pixels), so no
+//! head of hair needs an OIT of its own; characters are composited in depth order of groups: the
+//! volumes far to near, then every rasterized character in one OIT (so a volume character in
+//! front of a rasterized one is covered by its hair where they overlap: `auto` never draws that,
+//! as it rasterizes the larger, nearer ones).
 
 use glam::Vec3;
 
+mod objects;
 mod setup;
+
+pub use objects::{HairObject, MAX_OBJECTS};
 
 use crate::bind::Layouts;
 use crate::gpu::types::{self, VolumeParams};
@@ -31,19 +48,22 @@ use crate::gpu::{GpuTimer, TargetFormats, Targets, clear_loads};
 use crate::head::{HeadGeometry, HeadPass};
 use crate::inputs::{frame_sphere, lights_uniform};
 use crate::lod::{FramePlan, HybridSettings, LodBlend, LodLayers, Technique};
-use crate::stats::{FrameStats, ReadbackRing, SlotInfo, StatsReadback, VolumeFrame};
-use crate::strands::oit::{OitInputs, StrandOit};
+use crate::stats::{FrameStats, ObjectFrame, ReadbackRing, SlotInfo, StatsReadback, VolumeFrame};
+use crate::strands::oit::{OitInputs, OitPart, StrandOit};
 use crate::strands::{
     PpllPool, ShadowCasters, ShadowMap, StrandGeometry, StrandSettings, ThicknessFade,
 };
 use crate::volume::raymarch::RaymarchInputs;
 use crate::volume::{Raymarch, ShadowMode, VolumeSettings, Voxelizer};
 use crate::{Camera, DirectionalLight, GpuContext, Material, RenderError};
+use objects::{Drawn, ObjectSlot, check_objects, frame_objects};
 
 /// Most renders of one frame when PPLL fragments were dropped (see [`Renderer::render`]).
 pub const MAX_ATTEMPTS: u32 = 4;
 
-/// Names of the timed passes, in frame order.
+/// Names of the timed passes, in frame order. `volume/voxelize`, `volume/raymarch` and
+/// `lod/blend` are timed per head of hair (`GpuReport::object_timings`) and summed for the
+/// frame.
 pub const PASS_NAMES: &[&str] = &[
     "volume/voxelize",
     "strands/shadow",
@@ -66,18 +86,24 @@ pub struct FrameInputs<'a> {
     pub lights: &'a [DirectionalLight],
     /// Ambient light, linear RGB.
     pub ambient: Vec3,
-    /// Hair and head material.
+    /// The material of `hair` and of the head (whose colour it gives).
     pub material: Material,
-    /// The hair, if any.
+    /// The hair, if any, drawn with `material` and the renderer's technique
+    /// ([`Renderer::set_technique`]).
     pub hair: Option<&'a StrandGeometry>,
-    /// The opaque head mesh, if any.
+    /// The opaque head mesh, if any (several characters' heads and bodies in one mesh).
     pub head: Option<&'a HeadGeometry>,
     /// Clear color and depth first (linear RGBA), or `None` to draw over what the targets hold.
     pub clear: Option<wgpu::Color>,
+    /// More heads of hair in the same frame (characters), after `hair`, each with its own
+    /// material and technique; they share the lights, the shadow maps and one OIT, each volume
+    /// character has its own volume (at most [`MAX_OBJECTS`] in all).
+    pub objects: &'a [HairObject<'a>],
 }
 
 /// The hair renderer with its head pass: the strand rasterizer, the volume raymarcher and their
-/// level-of-detail blend ([`Technique`]); renders into caller-provided targets.
+/// level-of-detail blend ([`Technique`]) for one or several heads of hair; renders into
+/// caller-provided targets.
 #[derive(Debug)]
 pub struct Renderer {
     formats: TargetFormats,
@@ -85,7 +111,6 @@ pub struct Renderer {
     technique: Technique,
     volume_settings: VolumeSettings,
     hybrid: HybridSettings,
-    volume_params: wgpu::Buffer,
     volume_sampler: wgpu::Sampler,
     fallback_volume: (wgpu::TextureView, wgpu::Buffer),
     voxelizer: Option<Voxelizer>,
@@ -94,20 +119,26 @@ pub struct Renderer {
     layers: Option<LodLayers>,
     layouts: Layouts,
     camera: wgpu::Buffer,
-    params: wgpu::Buffer,
     lights: wgpu::Buffer,
-    material: wgpu::Buffer,
-    view_group: wgpu::BindGroup,
-    lighting_group: wgpu::BindGroup,
+    /// Object `i`'s uniforms and bind groups (slot 0 always exists: the head's).
+    slots: Vec<ObjectSlot>,
     shadow: ShadowMap,
     head_pass: HeadPass,
     oit: StrandOit,
     timer: GpuTimer,
     ring: ReadbackRing,
     stats_readback: StatsReadback,
-    /// The material fibre's uniform (filled only while the strands shade with it).
-    fiber: types::FiberCache,
+    /// Objects already warned about their volume not fitting the budget.
+    warned: Vec<bool>,
     frame: u64,
+}
+
+/// What one submitted frame was: its index, readback slot, plans and OIT.
+struct Submitted {
+    frame: u64,
+    slot: Option<usize>,
+    plans: Vec<FramePlan>,
+    oit: Option<OitFrame>,
 }
 
 impl Renderer {
@@ -141,6 +172,10 @@ impl Renderer {
         // ---- validate inputs (never panic on user data)
         let size = targets.validate_view(self.formats, &inputs.camera, inputs.lights.len())?;
         inputs.material.validate()?;
+        for o in inputs.objects {
+            o.material.validate()?;
+        }
+        check_objects(usize::from(inputs.hair.is_some()) + inputs.objects.len())?;
         if !inputs.ambient.is_finite() {
             return Err(RenderError::Invalid("ambient light is not finite".into()));
         }
@@ -154,107 +189,357 @@ impl Renderer {
         let mut attempts = 0;
         loop {
             attempts += 1;
-            let (frame, slot, plan, oit) = self.submit(ctx, targets, inputs, size)?;
-            let (ppll_capacity, ppll_bytes) = match oit {
+            let sub = self.submit(ctx, targets, inputs, size)?;
+            let (ppll_capacity, ppll_bytes) = match sub.oit {
                 Some((crate::strands::OitKind::Ppll, _)) => {
                     (self.oit.ppll_capacity(), self.oit.ppll_bytes())
                 }
                 _ => (0, 0),
             };
             let mut retry = false;
-            if let (StatsReadback::Wait, Some(i)) = (self.stats_readback, slot) {
+            if let (StatsReadback::Wait, Some(i)) = (self.stats_readback, sub.slot) {
                 report = self.ring.wait(ctx, &self.timer, i)?.or(report);
-                if let Some(r) = report.as_ref().filter(|r| r.frame == frame) {
+                if let Some(r) = report.as_ref().filter(|r| r.frame == sub.frame) {
                     retry = self.oit.learn(ctx, &self.settings, r);
                 }
             }
             if retry && inputs.clear.is_some() && attempts < MAX_ATTEMPTS {
                 tracing::debug!(
-                    frame,
+                    frame = sub.frame,
                     "fragments were lost or mostly unsorted: rendering the frame again"
                 );
                 continue;
             }
-            return Ok(FrameStats {
-                frame,
-                size,
-                segments: inputs.hair.map_or(0, |h| h.segment_count()),
-                ppll_capacity,
-                ppll_bytes,
-                oit,
-                attempts,
-                gpu: report,
-                lod: plan.lod,
-                volume: self
-                    .voxelizer
-                    .as_ref()
-                    .filter(|_| plan.voxelize)
-                    .map(|v| VolumeFrame {
-                        resolution: v.resolution(),
-                        bytes: v.bytes(),
-                    }),
-            });
+            let ppll = (ppll_capacity, ppll_bytes);
+            return Ok(self.frame_stats(inputs, size, &sub, (attempts, ppll), report));
         }
     }
 
-    /// Encode and submit one frame; returns its index, its readback slot, its plan and the OIT
-    /// that drew its strands (with the bytes of its buffers).
+    /// The statistics of a submitted frame (its attempts and the PPLL's capacity and bytes
+    /// while it drew).
+    fn frame_stats(
+        &self,
+        inputs: &FrameInputs<'_>,
+        size: [u32; 2],
+        sub: &Submitted,
+        (attempts, (ppll_capacity, ppll_bytes)): (u32, (u32, u64)),
+        gpu: Option<crate::GpuReport>,
+    ) -> FrameStats {
+        let hair = frame_objects(inputs.hair, inputs.material, self.technique, inputs.objects);
+        let voxelized = sub.plans.iter().filter(|p| p.voxelize).count() as u64;
+        let volume = self
+            .voxelizer
+            .as_ref()
+            .filter(|_| voxelized > 0)
+            .map(|v| VolumeFrame {
+                resolution: v.resolution(),
+                bytes: v.counter_bytes() + v.grid_bytes() * voxelized,
+            });
+        let objects = sub
+            .plans
+            .iter()
+            .zip(&hair)
+            .filter(|(_, (h, ..))| h.is_some())
+            .map(|(p, (h, ..))| ObjectFrame {
+                technique: p.drawn(),
+                lod: p.lod,
+                size_px: p.extent.size_px,
+                coverage: p.extent.coverage,
+                segments: h.map_or(0, StrandGeometry::segment_count),
+                volume_bytes: match (&self.voxelizer, p.voxelize) {
+                    (Some(v), true) => v.grid_bytes(),
+                    _ => 0,
+                },
+                fallback: p.fallback,
+            })
+            .collect();
+        FrameStats {
+            frame: sub.frame,
+            size,
+            segments: hair
+                .iter()
+                .map(|(h, ..)| h.map_or(0, StrandGeometry::segment_count))
+                .sum(),
+            ppll_capacity,
+            ppll_bytes,
+            oit: sub.oit,
+            attempts,
+            gpu,
+            lod: sub.plans.first().map_or(0.0, |p| p.lod),
+            volume,
+            objects,
+        }
+    }
+
+    /// Encode and submit one frame.
     fn submit(
         &mut self,
         ctx: &GpuContext,
         targets: &Targets<'_>,
         inputs: &FrameInputs<'_>,
         size: [u32; 2],
-    ) -> Result<(u64, Option<usize>, FramePlan, Option<OitFrame>), RenderError> {
-        // ---- plan: what draws the hair this frame (crate::lod)
-        let hair = inputs.hair.filter(|h| h.segment_count() > 0);
-        let plan = FramePlan::new(
-            self.technique,
-            &self.hybrid,
-            &self.settings,
-            &self.volume_settings,
-            inputs,
-            hair.is_some(),
-        );
-        if plan.voxelize && self.voxelizer.is_none() {
-            self.voxelizer = Some(Voxelizer::with_params(
-                ctx,
-                &self.layouts,
-                self.volume_settings.resolution,
-                &self.volume_params,
-            )?);
-            self.rebuild_lighting_group(ctx)?;
-        }
-        if plan.blend() && self.layers.as_ref().is_none_or(|l| l.size != size) {
+    ) -> Result<Submitted, RenderError> {
+        // ---- plan: what draws each head of hair this frame (crate::lod), volumes in budget
+        let hair = frame_objects(inputs.hair, inputs.material, self.technique, inputs.objects);
+        let several = hair.len() > 1;
+        let settings = (&self.hybrid, &self.settings, &self.volume_settings);
+        let mut drawn: Vec<Drawn<'_>> = hair
+            .iter()
+            .map(|&(h, material, technique)| Drawn {
+                hair: h.filter(|h| h.segment_count() > 0),
+                material,
+                plan: FramePlan::new(technique, settings, &inputs.camera, h, several),
+            })
+            .collect();
+        self.ensure_slots(ctx, drawn.len())?;
+        self.grant_volumes(ctx, &mut drawn)?;
+        let single = (!several).then(|| drawn[0]);
+        if single.is_some_and(|d| d.plan.blend())
+            && self.layers.as_ref().is_none_or(|l| l.size != size)
+        {
             self.layers = None;
             self.layers = Some(LodLayers::new(ctx, size, self.formats.color)?);
         }
 
         // ---- OIT buffers for this target size (only when strands draw; strands::oit)
-        let oit_kind = hair
-            .filter(|_| plan.strands)
-            .map(|_| self.oit.kind(&self.settings));
+        let rasterized = drawn.iter().any(|d| d.hair.is_some() && d.plan.strands);
+        let oit_kind = rasterized.then(|| self.oit.kind(&self.settings));
         if let Some(kind) = oit_kind {
             self.oit.prepare(ctx, &self.settings, size, kind)?;
         }
         let oit = oit_kind.map(|kind| (kind, self.oit.bytes(kind)));
 
-        // ---- uniforms
-        let bounds = frame_sphere(inputs.hair.map(|h| h.bounds), inputs.head.map(|h| h.bounds));
+        // ---- uniforms: the frame's camera and lights, then each head of hair's own
+        let bounds = hair
+            .iter()
+            .filter_map(|(h, ..)| h.map(|h| h.bounds))
+            .fold(inputs.head.map(|h| h.bounds), |acc, b| {
+                frame_sphere(acc, Some(b))
+            });
         let (lights, light_cameras) = lights_uniform(
             inputs.ambient,
             inputs.lights,
             Some((bounds, self.shadow.size())),
         )?;
-        let mut params = self.settings.params();
+        let mut base = self.settings.params();
         if let Some(kind) = oit_kind {
-            self.oit.fill_params(kind, &mut params);
+            self.oit.fill_params(kind, &mut base);
         } else {
-            (params.node_capacity, params.nodes_per_chunk) = (1, 1);
+            (base.node_capacity, base.nodes_per_chunk) = (1, 1);
         }
-        params.target_width = size[0];
-        params.target_height = size[1];
-        params.light_count = lights.count;
+        base.target_width = size[0];
+        base.target_height = size[1];
+        base.light_count = lights.count;
+        let q = &ctx.queue;
+        q.write_buffer(
+            &self.camera,
+            0,
+            bytemuck::bytes_of(&inputs.camera.uniform()),
+        );
+        q.write_buffer(&self.lights, 0, bytemuck::bytes_of(&lights));
+        for (i, (d, &(unfiltered, ..))) in drawn.iter().zip(&hair).enumerate() {
+            self.write_object_uniforms(ctx, i, d, unfiltered, base, &inputs.camera, bounds);
+        }
+
+        let frame = self.frame;
+        self.frame += 1;
+        let slot = self.ring.idle();
+        let adsm = drawn
+            .iter()
+            .any(|d| d.plan.shadows && d.plan.shadow_mode == ShadowMode::Adsm)
+            && !light_cameras.is_empty()
+            && bounds.is_some();
+        let casters: Vec<&StrandGeometry> = drawn
+            .iter()
+            .filter(|d| d.plan.strands)
+            .filter_map(|d| d.hair)
+            .collect();
+        let timer = &mut self.timer;
+        let (shadow, head_pass, strand_oit) = (&self.shadow, &self.head_pass, &self.oit);
+        let shadow_width_px = self.settings.shadow_width_px;
+        let (raymarch, lod_blend, layers) = (&self.raymarch, &self.lod_blend, &self.layers);
+        let voxelizer = self.voxelizer.as_ref();
+        let slots = &self.slots;
+        let ring = &mut self.ring;
+        ctx.scoped("rendering a frame", || {
+            timer.begin_frame();
+            let mut encoder = ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("frame/encoder"),
+                });
+            // ---- voxelization of each head of hair that needs its volume (§3.3)
+            if let Some(v) = voxelizer {
+                for (i, d) in drawn.iter().enumerate().filter(|(_, d)| d.plan.voxelize) {
+                    if let Some(h) = d.hair {
+                        let writes = timer.object_compute_writes("volume/voxelize", i, true, true);
+                        v.encode(&mut encoder, i, h, writes);
+                    }
+                }
+            }
+            // ---- shadow maps (§3.4, ADSM) of the heads and every rasterized head of hair
+            if adsm {
+                shadow.encode(
+                    ctx,
+                    &mut encoder,
+                    timer,
+                    &light_cameras,
+                    ShadowCasters {
+                        hair: &casters,
+                        head: inputs.head,
+                        width_px: shadow_width_px,
+                    },
+                );
+            }
+            // ---- opaque head, depth written
+            {
+                let mut pass = targets.begin_pass(
+                    &mut encoder,
+                    "head/head_pass/pass",
+                    clear_loads(inputs.clear),
+                    timer.render_writes("head", true, true),
+                );
+                if let Some(head) = inputs.head {
+                    pass.set_bind_group(0, &slots[0].view_group, &[]);
+                    pass.set_bind_group(1, &slots[0].lighting_group, &[]);
+                    head_pass.draw(&mut pass, head);
+                }
+            }
+            let part = |i: usize, geometry| OitPart {
+                view: &slots[i].view_group,
+                lighting: &slots[i].lighting_group,
+                geometry,
+            };
+            let march = |encoder: &mut wgpu::CommandEncoder, i: usize, color, timer: &GpuTimer| {
+                if let Some(occupancy) = voxelizer.and_then(|v| v.occupancy(i)) {
+                    let inputs = RaymarchInputs {
+                        view: &slots[i].view_group,
+                        lighting: &slots[i].lighting_group,
+                        depth: targets.depth,
+                        occupancy,
+                        color,
+                    };
+                    let writes = timer.object_render_writes("volume/raymarch", i, true, true);
+                    raymarch.encode(ctx, encoder, &inputs, writes);
+                }
+            };
+            if let Some(d) = single {
+                // ---- one head of hair: the LOD layers when both renderers draw
+                let plan = &d.plan;
+                let layers = layers.as_ref().filter(|_| plan.blend());
+                if let Some(l) = layers {
+                    l.clear(&mut encoder);
+                }
+                // ---- strands: PPLL build and resolve (§3.1-3.2), or ShortCut (strands::oit)
+                if let (Some(geometry), Some(kind)) = (d.hair, oit_kind) {
+                    let parts = [part(0, geometry)];
+                    let inputs = OitInputs {
+                        view: &slots[0].view_group,
+                        parts: &parts,
+                        depth: targets.depth,
+                        color: layers.map_or(targets.color, |l| &l.strands),
+                    };
+                    strand_oit.encode(ctx, &mut encoder, kind, &inputs, timer);
+                }
+                // ---- volume: raymarch to the isosurface (§3.3-3.4)
+                if plan.volume && plan.voxelize {
+                    march(
+                        &mut encoder,
+                        0,
+                        layers.map_or(targets.color, |l| &l.volume),
+                        timer,
+                    );
+                }
+                // ---- level-of-detail blend of the two layers (§3, §4)
+                if let Some(l) = layers {
+                    lod_blend.encode(
+                        ctx,
+                        &mut encoder,
+                        l,
+                        plan,
+                        targets.color,
+                        timer.object_render_writes("lod/blend", 0, true, true),
+                    );
+                }
+            } else {
+                // ---- several heads of hair: every volume far to near, then one OIT for all
+                let mut marched: Vec<usize> = (0..drawn.len())
+                    .filter(|&i| drawn[i].plan.volume && drawn[i].plan.voxelize)
+                    .collect();
+                marched.sort_by(|&a, &b| {
+                    let depth = |i: usize| drawn[i].plan.extent.depth;
+                    depth(b).total_cmp(&depth(a))
+                });
+                for i in marched {
+                    march(&mut encoder, i, targets.color, timer);
+                }
+                if let Some(kind) = oit_kind {
+                    let parts: Vec<OitPart<'_>> = drawn
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, d)| d.plan.strands)
+                        .filter_map(|(i, d)| Some(part(i, d.hair?)))
+                        .collect();
+                    let inputs = OitInputs {
+                        view: &slots[0].view_group,
+                        parts: &parts,
+                        depth: targets.depth,
+                        color: targets.color,
+                    };
+                    strand_oit.encode(ctx, &mut encoder, kind, &inputs, timer);
+                }
+            }
+            // ---- statistics readback
+            if let Some(i) = slot {
+                let ppll = oit_kind == Some(crate::strands::OitKind::Ppll);
+                let info = SlotInfo {
+                    frame,
+                    capacity: if ppll { strand_oit.ppll_capacity() } else { 0 },
+                    head_bytes: if ppll { PpllPool::head_bytes(size) } else { 0 },
+                    oit,
+                    satf: false,
+                    objects: drawn.len(),
+                };
+                let counters = oit_kind.and_then(|k| strand_oit.counters(k));
+                ring.record(i, &mut encoder, counters, timer, info);
+                if let Some(v) = voxelizer {
+                    for (o, _) in drawn.iter().enumerate().filter(|(_, d)| d.plan.voxelize) {
+                        if let Some(stats) = v.stats_buffer(o) {
+                            ring.record_volume(i, &mut encoder, o, stats);
+                        }
+                    }
+                }
+            }
+            ctx.queue.submit([encoder.finish()]);
+            if let Some(i) = slot {
+                ring.map(i);
+            }
+        })?;
+
+        Ok(Submitted {
+            frame,
+            slot,
+            plans: drawn.iter().map(|d| d.plan).collect(),
+            oit,
+        })
+    }
+
+    /// Write object `i`'s strand settings, material and volume uniforms for this frame: `base`
+    /// holds the settings every head of hair shares; `unfiltered` is its hair as given (its
+    /// centre even when it has no segments); `bounds` the frame's sphere.
+    #[allow(clippy::too_many_arguments)]
+    fn write_object_uniforms(
+        &mut self,
+        ctx: &GpuContext,
+        i: usize,
+        d: &Drawn<'_>,
+        unfiltered: Option<&StrandGeometry>,
+        base: types::StrandParams,
+        camera: &Camera,
+        bounds: Option<(Vec3, f32)>,
+    ) {
+        let (plan, hair) = (&d.plan, d.hair);
+        let mut params = base;
         params.shadows = u32::from(plan.shadows);
         params.thickness_fade = match (self.settings.thickness_fade, hair) {
             (ThicknessFade::Tip, Some(h)) if h.max_thickness() > 0.0 => 1,
@@ -263,12 +548,14 @@ impl Renderer {
         };
         params.thickness_ref = hair.map_or(1.0, |h| h.max_thickness().max(1e-20));
         params.vertex_color = u32::from(hair.is_some_and(|h| h.has_color()));
-        params.hair_center = inputs.hair.map_or([0.0; 3], |h| h.bounds.0.to_array());
+        params.hair_center = unfiltered.map_or([0.0; 3], |h| h.bounds.0.to_array());
+        params.lod_factor = plan.lod;
+        params.lod_dither = u32::from(plan.dither);
         let mut volume = match hair {
             Some(h) if plan.voxelize => Voxelizer::params(&self.volume_settings, h),
             _ => VolumeParams::default(),
         };
-        volume.world_from_clip = types::mat4(inputs.camera.clip_from_world().inverse());
+        volume.world_from_clip = types::mat4(camera.clip_from_world().inverse());
         volume.shading = params.shading;
         // The strands' tip fade weighs the voxelized tangents (`VolumeParams::fade_ref`).
         volume.fade_ref = if params.thickness_fade == 1 {
@@ -298,146 +585,17 @@ impl Renderer {
                 self.settings.shadow_width_px * 2.0 * radius / self.shadow.size() as f32;
             volume.occlusion_bias = self.settings.shadow_bias;
         }
-        let q = &ctx.queue;
-        q.write_buffer(
-            &self.camera,
-            0,
-            bytemuck::bytes_of(&inputs.camera.uniform()),
-        );
-        q.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-        q.write_buffer(&self.lights, 0, bytemuck::bytes_of(&lights));
-        let mut material = inputs.material.uniform();
+        let slot = &mut self.slots[i];
+        let mut material = d.material.uniform();
         if self.settings.shading == crate::Shading::Marschner {
-            let uniform = self.fiber.get(&inputs.material.fiber);
+            let uniform = slot.fiber.get(&d.material.fiber);
             material.fiber = uniform.marschner;
             material.dual = uniform.dual;
         }
-        q.write_buffer(&self.material, 0, bytemuck::bytes_of(&material));
-        q.write_buffer(&self.volume_params, 0, bytemuck::bytes_of(&volume));
-
-        let frame = self.frame;
-        self.frame += 1;
-        let slot = self.ring.idle();
-        let adsm = plan.shadows
-            && plan.shadow_mode == ShadowMode::Adsm
-            && !light_cameras.is_empty()
-            && bounds.is_some();
-        let timer = &mut self.timer;
-        let (shadow, head_pass, strand_oit) = (&self.shadow, &self.head_pass, &self.oit);
-        let shadow_width_px = self.settings.shadow_width_px;
-        let (raymarch, lod_blend, layers) = (&self.raymarch, &self.lod_blend, &self.layers);
-        let voxelizer = self.voxelizer.as_ref().filter(|_| plan.voxelize);
-        let (view, lighting) = (&self.view_group, &self.lighting_group);
-        let ring = &mut self.ring;
-        ctx.scoped("rendering a frame", || {
-            timer.begin_frame();
-            let mut encoder = ctx
-                .device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("frame/encoder"),
-                });
-            // ---- voxelization: AABB, grid, counters, volume texture (§3.3)
-            if let (Some(v), Some(h)) = (voxelizer, hair) {
-                v.encode(
-                    &mut encoder,
-                    h,
-                    timer.compute_writes("volume/voxelize", true, true),
-                );
-            }
-            // ---- shadow maps (§3.4, ADSM)
-            if adsm {
-                shadow.encode(
-                    ctx,
-                    &mut encoder,
-                    timer,
-                    &light_cameras,
-                    ShadowCasters {
-                        hair,
-                        head: inputs.head,
-                        width_px: shadow_width_px,
-                    },
-                );
-            }
-            // ---- opaque head, depth written
-            {
-                let mut pass = targets.begin_pass(
-                    &mut encoder,
-                    "head/head_pass/pass",
-                    clear_loads(inputs.clear),
-                    timer.render_writes("head", true, true),
-                );
-                if let Some(head) = inputs.head {
-                    pass.set_bind_group(0, view, &[]);
-                    pass.set_bind_group(1, lighting, &[]);
-                    head_pass.draw(&mut pass, head);
-                }
-            }
-            // ---- the LOD layers, when both renderers draw
-            let layers = layers.as_ref().filter(|_| plan.blend());
-            if let Some(l) = layers {
-                l.clear(&mut encoder);
-            }
-            // ---- strands: PPLL build and resolve (§3.1-3.2), or ShortCut (strands::oit)
-            if let (Some(geometry), Some(kind)) = (hair, oit_kind) {
-                let inputs = OitInputs {
-                    view,
-                    lighting,
-                    geometry,
-                    depth: targets.depth,
-                    color: layers.map_or(targets.color, |l| &l.strands),
-                };
-                strand_oit.encode(ctx, &mut encoder, kind, &inputs, timer);
-            }
-            // ---- volume: raymarch to the isosurface (§3.3-3.4)
-            if let (Some(v), true) = (voxelizer, plan.volume) {
-                let inputs = RaymarchInputs {
-                    view,
-                    lighting,
-                    depth: targets.depth,
-                    occupancy: v.occupancy(),
-                    color: layers.map_or(targets.color, |l| &l.volume),
-                };
-                raymarch.encode(
-                    ctx,
-                    &mut encoder,
-                    &inputs,
-                    timer.render_writes("volume/raymarch", true, true),
-                );
-            }
-            // ---- level-of-detail blend of the two layers (§3, §4)
-            if let Some(l) = layers {
-                lod_blend.encode(
-                    ctx,
-                    &mut encoder,
-                    l,
-                    &plan,
-                    targets.color,
-                    timer.render_writes("lod/blend", true, true),
-                );
-            }
-            // ---- statistics readback
-            if let Some(i) = slot {
-                let ppll = oit_kind == Some(crate::strands::OitKind::Ppll);
-                let info = SlotInfo {
-                    frame,
-                    capacity: if ppll { strand_oit.ppll_capacity() } else { 0 },
-                    head_bytes: if ppll { PpllPool::head_bytes(size) } else { 0 },
-                    oit,
-                    satf: false,
-                };
-                let counters = oit_kind.and_then(|k| strand_oit.counters(k));
-                ring.record(i, &mut encoder, counters, timer, info);
-                if let Some(v) = voxelizer {
-                    ring.record_volume(i, &mut encoder, v.stats_buffer());
-                }
-            }
-            ctx.queue.submit([encoder.finish()]);
-            if let Some(i) = slot {
-                ring.map(i);
-            }
-        })?;
-
-        Ok((frame, slot, plan, oit))
+        let q = &ctx.queue;
+        q.write_buffer(&slot.params, 0, bytemuck::bytes_of(&params));
+        q.write_buffer(&slot.material, 0, bytemuck::bytes_of(&material));
+        q.write_buffer(&slot.volume_params, 0, bytemuck::bytes_of(&volume));
     }
 }
 

@@ -25,6 +25,7 @@
 //!     hair: None,
 //!     head: None,
 //!     clear: Some(wgpu::Color::BLACK),
+//!     objects: &[],
 //! };
 //! let stats = renderer.render(&ctx, &targets.targets(), &inputs)?;
 //! read_texture(&ctx, &targets.color)?.save_png("frame.png")?;
@@ -52,14 +53,14 @@ pub mod strands;
 pub mod volume;
 
 pub use error::RenderError;
-pub use frame::{FrameInputs, MAX_ATTEMPTS, PASS_NAMES, Renderer};
+pub use frame::{FrameInputs, HairObject, MAX_ATTEMPTS, MAX_OBJECTS, PASS_NAMES, Renderer};
 pub use gpu::{
     COLOR_FORMAT, ContextOptions, DEPTH_FORMAT, GpuContext, LinearImage, OffscreenTargets,
     TargetFormats, Targets, Timings, read_texture,
 };
 pub use head::{HeadGeometry, TriMesh};
 pub use inputs::{Camera, DirectionalLight, Material};
-pub use lod::{HybridSettings, Technique, Transition};
+pub use lod::{HybridSettings, ScreenExtent, Technique, Transition};
 pub use patches::{
     PatchFrameInputs, PatchFrameStats, PatchGeometry, PatchRenderer, PatchSettings, RenderScheme,
 };
@@ -67,7 +68,7 @@ pub use satf::{
     SatfDatabase, SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, SatfSettings,
 };
 pub use scene_setup::PreparedScene;
-pub use stats::{FrameStats, GpuReport, StatsReadback, VolumeFrame};
+pub use stats::{FrameStats, GpuReport, ObjectFrame, StatsReadback, VolumeFrame};
 pub use strands::{PpllStats, Shading, StrandGeometry, StrandSettings, ThicknessFade};
 pub use volume::{ShadowMode, VolumeSettings, VolumeStats, VoxelizeMode, Voxelizer};
 

@@ -27,9 +27,9 @@ use crate::bind::{bind_group, bind_group_layout, texture_2d, uniform};
 use crate::gpu::pipeline::{RasterPipeline, over_color_pass, pipeline_layout, premultiplied_over};
 use crate::gpu::screen_layer;
 use crate::gpu::types::LodParams;
-use crate::strands::StrandSettings;
+use crate::strands::{StrandGeometry, StrandSettings};
 use crate::volume::{ShadowMode, VolumeSettings};
-use crate::{Camera, FrameInputs, GpuContext, RenderError, shaders};
+use crate::{Camera, GpuContext, RenderError, shaders};
 
 /// The CPU twins of the blend factor and the dither thresholds (`tress_shading::volume`).
 pub use tress_shading::{dither_threshold, lod_factor};
@@ -44,6 +44,10 @@ pub enum Technique {
     Volume,
     /// Both, blended by distance (or a fixed `lod`), `"hybrid"`.
     Hybrid,
+    /// Chosen per head of hair and frame from its size on screen: strands from
+    /// [`HybridSettings::auto_near_px`] up, volume from [`HybridSettings::auto_far_px`] down,
+    /// the hybrid's blend between, `"auto"`.
+    Auto,
 }
 
 impl Technique {
@@ -53,6 +57,7 @@ impl Technique {
             Technique::Strands => "strands",
             Technique::Volume => "volume",
             Technique::Hybrid => "hybrid",
+            Technique::Auto => "auto",
         }
     }
 }
@@ -64,8 +69,10 @@ impl FromStr for Technique {
             "strands" => Ok(Technique::Strands),
             "volume" => Ok(Technique::Volume),
             "hybrid" => Ok(Technique::Hybrid),
+            "auto" => Ok(Technique::Auto),
             _ => Err(RenderError::Invalid(format!(
-                "unknown technique `{s}` for the renderer (expected strands, volume or hybrid)"
+                "unknown technique `{s}` for the renderer (expected strands, volume, hybrid or \
+                 auto)"
             ))),
         }
     }
@@ -121,6 +128,13 @@ pub struct HybridSettings {
     pub far: f32,
     /// Alpha-blended or dithered transition.
     pub transition: Transition,
+    /// Under `technique = "auto"`: the screen size (the diameter of the hair's bounding
+    /// sphere in pixels) from which a head of hair is drawn as strands only (default 720).
+    pub auto_near_px: f32,
+    /// Under `technique = "auto"`: the screen size up to which it is drawn as the volume only
+    /// (default 240); between the two, the hybrid's blend with `f = 1 - smoothstep(far, near,
+    /// size)`.
+    pub auto_far_px: f32,
 }
 
 impl Default for HybridSettings {
@@ -130,6 +144,8 @@ impl Default for HybridSettings {
             near: 100.0,
             far: 250.0,
             transition: Transition::Alpha,
+            auto_near_px: 720.0,
+            auto_far_px: 240.0,
         }
     }
 }
@@ -149,7 +165,27 @@ impl HybridSettings {
         if !(self.far >= self.near && self.far.is_finite()) {
             return bad("far", "must be finite and at least `near`");
         }
+        if !(self.auto_far_px >= 0.0 && self.auto_far_px.is_finite()) {
+            return bad("auto_far_px", "must be finite and non-negative");
+        }
+        if !(self.auto_near_px >= self.auto_far_px && self.auto_near_px.is_finite()) {
+            return bad("auto_near_px", "must be finite and at least `auto_far_px`");
+        }
         Ok(())
+    }
+
+    /// The blend factor `technique = "auto"` gives a head of hair `size_px` pixels across on
+    /// screen: 0 (strands) from `auto_near_px` up, 1 (volume) from `auto_far_px` down, the
+    /// smooth step between.
+    pub fn auto_factor(&self, size_px: f32) -> f32 {
+        if size_px >= self.auto_near_px {
+            0.0
+        } else if !(size_px > self.auto_far_px) {
+            1.0
+        } else {
+            let t = (size_px - self.auto_far_px) / (self.auto_near_px - self.auto_far_px);
+            1.0 - t * t * (3.0 - 2.0 * t)
+        }
     }
 
     /// The blend factor at eye distance `distance`.
@@ -160,21 +196,78 @@ impl HybridSettings {
 }
 
 /// The blend factor of a frame: 0 for strands, 1 for the volume, the hybrid's by distance from
-/// the eye to `hair_center`.
+/// the eye to `hair_center`; `auto` by the size on screen of a hair of radius 0 (see
+/// [`object_factor`] for the general case).
 pub fn frame_factor(
     technique: Technique,
     hybrid: &HybridSettings,
     camera: &Camera,
     hair_center: Vec3,
 ) -> f32 {
+    object_factor(technique, hybrid, camera, (hair_center, 0.0))
+}
+
+/// The blend factor of a head of hair whose bounding sphere is `bounds` (centre, radius): 0 for
+/// strands, 1 for the volume, the hybrid's by the distance from the eye to the centre, `auto`'s
+/// by the sphere's size on screen ([`HybridSettings::auto_factor`]).
+pub fn object_factor(
+    technique: Technique,
+    hybrid: &HybridSettings,
+    camera: &Camera,
+    bounds: (Vec3, f32),
+) -> f32 {
     match technique {
         Technique::Strands => 0.0,
         Technique::Volume => 1.0,
-        Technique::Hybrid => hybrid.factor(camera.eye().distance(hair_center)),
+        Technique::Hybrid => hybrid.factor(camera.eye().distance(bounds.0)),
+        Technique::Auto => hybrid.auto_factor(ScreenExtent::of(camera, bounds).size_px),
     }
 }
 
-/// What a frame draws, decided before anything is encoded.
+/// How large a bounding sphere appears on screen.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScreenExtent {
+    /// The sphere's projected diameter in pixels (very large with the eye inside it).
+    pub size_px: f32,
+    /// The share of the frame the square around the projected sphere covers, `[0, 1]`.
+    pub coverage: f32,
+    /// Its centre's distance in front of the eye, along the view direction.
+    pub depth: f32,
+}
+
+impl ScreenExtent {
+    /// The extent of the sphere `(centre, radius)` seen by `camera` (perspective or
+    /// orthographic).
+    pub fn of(camera: &Camera, (center, radius): (Vec3, f32)) -> ScreenExtent {
+        let [w, h] = camera.viewport.map(|v| v.max(1) as f32);
+        let view = camera.view_from_world.transform_point3(center);
+        let depth = -view.z;
+        let scale = camera.clip_from_view.y_axis.y.abs() * h * 0.5;
+        let per_unit = if camera.is_orthographic() {
+            scale
+        } else if depth > radius.max(1e-6) {
+            scale / depth
+        } else {
+            // The eye is inside the sphere (or it is behind): it fills the frame.
+            return ScreenExtent {
+                size_px: 16.0 * w.max(h),
+                coverage: if depth > -radius { 1.0 } else { 0.0 },
+                depth,
+            };
+        };
+        let r_px = radius * per_unit;
+        let ndc = camera.clip_from_world().project_point3(center);
+        let (cx, cy) = ((ndc.x + 1.0) * 0.5 * w, (1.0 - ndc.y) * 0.5 * h);
+        let overlap = |c: f32, size: f32| ((c + r_px).min(size) - (c - r_px).max(0.0)).max(0.0);
+        ScreenExtent {
+            size_px: 2.0 * r_px,
+            coverage: (overlap(cx, w) * overlap(cy, h) / (w * h)).clamp(0.0, 1.0),
+            depth,
+        }
+    }
+}
+
+/// What draws one head of hair in a frame, decided before anything is encoded.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct FramePlan {
     /// The blend factor (0 strands, 1 volume).
@@ -193,19 +286,42 @@ pub(crate) struct FramePlan {
     pub(crate) raster_ao: bool,
     /// How the layers mix when both draw.
     pub(crate) transition: Transition,
+    /// Both draw into the frame's pixels split by the 4 × 4 dither, without layers (a hybrid
+    /// head of hair in a frame of several, which shares the frame's OIT).
+    pub(crate) dither: bool,
+    /// The hair's size on screen.
+    pub(crate) extent: ScreenExtent,
+    /// Why it is drawn otherwise than asked.
+    pub(crate) fallback: Option<&'static str>,
 }
 
 impl FramePlan {
+    /// The plan of `hair` (none: only the head) drawn with `technique`, alone in its frame or
+    /// (`several`) beside other heads of hair.
     pub(crate) fn new(
         technique: Technique,
+        settings: (&HybridSettings, &StrandSettings, &VolumeSettings),
+        camera: &Camera,
+        hair: Option<&StrandGeometry>,
+        several: bool,
+    ) -> Self {
+        let (hybrid, strands, volume) = settings;
+        let has_hair = hair.is_some_and(|h| h.segment_count() > 0);
+        let bounds = hair.map_or((Vec3::ZERO, 0.0), |h| h.bounds);
+        let lod = object_factor(technique, hybrid, camera, bounds);
+        let mut plan = Self::with_factor(lod, has_hair, hybrid, strands, volume);
+        plan.dither = several && plan.blend();
+        plan.extent = ScreenExtent::of(camera, bounds);
+        plan
+    }
+
+    fn with_factor(
+        lod: f32,
+        has_hair: bool,
         hybrid: &HybridSettings,
         strands: &StrandSettings,
         volume: &VolumeSettings,
-        inputs: &FrameInputs<'_>,
-        has_hair: bool,
     ) -> Self {
-        let center = inputs.hair.map_or(Vec3::ZERO, |h| h.bounds.0);
-        let lod = frame_factor(technique, hybrid, &inputs.camera, center);
         let draw_strands = has_hair && lod < 1.0;
         let draw_volume = has_hair && lod > 0.0;
         let raster_ao = draw_strands && strands.ao;
@@ -229,12 +345,49 @@ impl FramePlan {
             shadow_mode,
             raster_ao,
             transition: hybrid.transition,
+            dither: false,
+            extent: ScreenExtent {
+                size_px: 0.0,
+                coverage: 0.0,
+                depth: 0.0,
+            },
+            fallback: None,
         }
     }
 
-    /// Both renderers draw: into scratch layers, then blended.
+    /// This plan as strands alone, without anything from the volume (its volume did not fit
+    /// the budget): `why` is reported.
+    pub(crate) fn strands_only(
+        &self,
+        why: &'static str,
+        hybrid: &HybridSettings,
+        strands: &StrandSettings,
+        volume: &VolumeSettings,
+    ) -> Self {
+        let plain = StrandSettings {
+            ao: false,
+            shadow_mode: ShadowMode::Adsm,
+            ..strands.clone()
+        };
+        FramePlan {
+            extent: self.extent,
+            fallback: Some(why),
+            ..Self::with_factor(0.0, self.strands || self.volume, hybrid, &plain, volume)
+        }
+    }
+
+    /// Both renderers draw: into scratch layers, then blended (or dithered in the frame).
     pub(crate) fn blend(&self) -> bool {
         self.strands && self.volume
+    }
+
+    /// What drew the hair: strands, volume or hybrid (strands with no hair).
+    pub(crate) fn drawn(&self) -> Technique {
+        match (self.strands, self.volume) {
+            (true, true) => Technique::Hybrid,
+            (false, true) => Technique::Volume,
+            _ => Technique::Strands,
+        }
     }
 }
 

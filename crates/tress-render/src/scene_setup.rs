@@ -2,30 +2,47 @@
 //! and technique settings. The CLI, the benchmarks and the viewer all go through here, so a
 //! scene renders the same everywhere.
 //!
-//! Several `[[hair]]` entries are merged into one asset and drawn with the first entry's
-//! material (the renderer has one hair material per frame).
+//! Each `[[hair]]` entry is a head of hair of its own ([`PreparedHair`]: its asset, material and
+//! technique), so a scene can hold several characters; the strand renderer draws them in one
+//! frame ([`crate::HairObject`]). Patches and SATF draw every entry merged into one asset
+//! ([`PreparedScene::hair`]) with the first entry's material.
 
+use std::borrow::Cow;
 use std::path::Path;
 
 use glam::Vec3;
 use serde::Deserialize;
-use tress_hair::HairAsset;
-use tress_scene::{HeadSource, Scene};
+use tress_hair::{Aabb, HairAsset};
+use tress_scene::{HeadSource, Scene, TechniqueKind};
 
 use crate::strands::ThicknessFade;
 use crate::{Camera, DirectionalLight, Material, RenderError, Shading, StrandSettings, TriMesh};
 use crate::{HybridSettings, ShadowMode, Transition, VolumeSettings};
 
+/// One `[[hair]]` entry, resolved: a head of hair the strand renderer draws as an object of its
+/// own.
+#[derive(Clone, Debug)]
+pub struct PreparedHair {
+    /// The entry's strands (files merged or generated, followed, subset and transformed).
+    pub asset: HairAsset,
+    /// The entry's material.
+    pub material: Material,
+    /// What draws it ([`Scene::hair_technique`]): strands, volume, hybrid or auto under the
+    /// strand renderer; patches or SATF draw the whole scene.
+    pub technique: TechniqueKind,
+}
+
 /// A scene resolved into renderer inputs (CPU side; upload with the renderer).
 #[derive(Clone, Debug)]
 pub struct PreparedScene {
-    /// All hair entries merged (`None` when the scene has no hair).
-    pub hair: Option<HairAsset>,
-    /// The head mesh, if the scene has one.
+    /// The `[[hair]]` entries, in order (empty when the scene has no hair).
+    pub objects: Vec<PreparedHair>,
+    /// The head mesh, if the scene has one: the OBJ, or every generated head
+    /// ([`Scene::generated_heads`], one per generated character) in one mesh.
     pub head: Option<TriMesh>,
     /// Directional lights, in the renderer's convention (direction of travel).
     pub lights: Vec<DirectionalLight>,
-    /// Hair material of the first hair entry (defaults without hair).
+    /// Hair material of the first hair entry (defaults without hair); the head's colour.
     pub material: Material,
     /// Background (clear) color, linear RGB.
     pub background: Vec3,
@@ -42,21 +59,63 @@ impl PreparedScene {
     pub fn load(scene: &Scene) -> Result<PreparedScene, RenderError> {
         let settings = Self::load_settings(scene)?;
         let (assets, hair_mesh) = scene.load_hair_and_meshes()?;
-        let hair = if assets.is_empty() {
-            None
-        } else {
-            Some(HairAsset::merge(&assets)?)
-        };
+        let objects = assets
+            .into_iter()
+            .zip(&scene.hair)
+            .enumerate()
+            .map(|(i, (asset, spec))| {
+                Ok(PreparedHair {
+                    asset,
+                    material: hair_material(&spec.material)?,
+                    technique: scene
+                        .hair_technique(i)
+                        .map_err(|e| RenderError::Invalid(format!("hair.{i}.technique: {e}")))?,
+                })
+            })
+            .collect::<Result<Vec<_>, RenderError>>()?;
         let head = match scene.head_source() {
             // USD grooms often carry the head they were groomed on.
             HeadSource::None => hair_mesh,
             HeadSource::Obj(path) => Some(read_obj_mesh(&path)?),
-            HeadSource::Generated(g) => Some(g.mesh(64)),
+            HeadSource::Generated(_) => {
+                let meshes: Vec<TriMesh> =
+                    scene.generated_heads().iter().map(|g| g.mesh(64)).collect();
+                TriMesh::merge(&meshes)
+            }
         };
         Ok(PreparedScene {
-            hair,
+            objects,
             head,
             ..settings
+        })
+    }
+
+    /// Every hair entry merged into one asset, in order (`None` without hair): what patches,
+    /// SATF and the reference tracer draw. One entry is borrowed, several are merged (a copy).
+    pub fn hair(&self) -> Option<Cow<'_, HairAsset>> {
+        match self.objects.as_slice() {
+            [] => None,
+            [one] => Some(Cow::Borrowed(&one.asset)),
+            many => {
+                let assets: Vec<HairAsset> = many.iter().map(|o| o.asset.clone()).collect();
+                // Merging valid assets cannot fail (there is at least one).
+                HairAsset::merge_owned(assets).ok().map(Cow::Owned)
+            }
+        }
+    }
+
+    /// The box around every hair entry (`None` without hair).
+    pub fn hair_bounds(&self) -> Option<Aabb> {
+        self.objects
+            .iter()
+            .map(|o| o.asset.bounds())
+            .reduce(|a, b| a.union(&b))
+    }
+
+    /// Strands and segments of every hair entry together.
+    pub fn hair_counts(&self) -> (usize, usize) {
+        self.objects.iter().fold((0, 0), |(s, g), o| {
+            (s + o.asset.strand_count(), g + o.asset.segment_count())
         })
     }
 
@@ -74,14 +133,14 @@ impl PreparedScene {
     /// These hair and head with the settings of `scene` (after [`frame_bounds`] changed them).
     pub fn reload_settings(self, scene: &Scene) -> Result<PreparedScene, RenderError> {
         Ok(PreparedScene {
-            hair: self.hair,
+            objects: self.objects,
             head: self.head,
             ..Self::load_settings(scene)?
         })
     }
 
     /// The scene's lights, material, background and technique settings, without loading hair
-    /// or head (`hair` and `head` are `None`). Errors name the key.
+    /// or head (no `objects`, `head` is `None`). Errors name the key.
     pub fn load_settings(scene: &Scene) -> Result<PreparedScene, RenderError> {
         let lights = scene
             .lights
@@ -95,14 +154,14 @@ impl PreparedScene {
         let material = scene
             .hair
             .first()
-            .map(|h| material(&h.material))
+            .map(|h| hair_material(&h.material))
             .transpose()?
             .unwrap_or_default();
         let strands = strand_settings(scene)?;
         let volume = volume_settings(scene)?;
         let hybrid = hybrid_settings(scene)?;
         Ok(PreparedScene {
-            hair: None,
+            objects: Vec::new(),
             head: None,
             lights,
             material,
@@ -242,7 +301,8 @@ pub fn frame_bounds(scene: &mut Scene, min: Vec3, max: Vec3) {
     scene.camera.far = distance + radius * 1.5;
 }
 
-fn material(m: &tress_scene::Material) -> Result<Material, RenderError> {
+/// The renderer's material of a `[hair.material]` table (its fibre checked).
+pub fn hair_material(m: &tress_scene::Material) -> Result<Material, RenderError> {
     Ok(Material {
         base_color: m.base_color,
         primary_color: m.primary_color,
@@ -357,6 +417,7 @@ struct VolumeTable {
     ao_radius: Option<f32>,
     ao_samples: Option<u32>,
     ao_intensity: Option<f32>,
+    budget_mib: Option<u32>,
 }
 
 /// Volume settings from the scene's `[volume]` table over [`VolumeSettings::default`].
@@ -382,7 +443,8 @@ pub fn volume_settings(scene: &Scene) -> Result<VolumeSettings, RenderError> {
         ao,
         ao_radius,
         ao_samples,
-        ao_intensity
+        ao_intensity,
+        budget_mib
     );
     if let Some(name) = &t.voxelize {
         s.voxelize = crate::volume::parse_voxelize_mode(name)?;
@@ -405,6 +467,8 @@ struct HybridTable {
     near: Option<f32>,
     far: Option<f32>,
     transition: Option<String>,
+    auto_near_px: Option<f32>,
+    auto_far_px: Option<f32>,
 }
 
 /// Level-of-detail settings from the scene's `[hybrid]` table over [`HybridSettings::default`]
@@ -423,6 +487,12 @@ pub fn hybrid_settings(scene: &Scene) -> Result<HybridSettings, RenderError> {
     }
     if let Some(name) = &t.transition {
         s.transition = name.parse::<Transition>()?;
+    }
+    if let Some(v) = t.auto_near_px {
+        s.auto_near_px = v;
+    }
+    if let Some(v) = t.auto_far_px {
+        s.auto_far_px = v;
     }
     s.validate()?;
     Ok(s)

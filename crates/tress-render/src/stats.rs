@@ -34,12 +34,17 @@ pub struct GpuReport {
     /// The OIT that drew the strands, what it was given and what it lost (`None` when no
     /// strands were drawn).
     pub oit: Option<OitStats>,
-    /// Voxel counter occupancy, when the frame voxelized the hair.
+    /// Voxel counter occupancy, when the frame voxelized the hair (summed over the objects
+    /// voxelized).
     pub volume: Option<VolumeStats>,
+    /// Each object's voxel counters, in the frame's object order (`None`: not voxelized).
+    pub object_volumes: Vec<Option<VolumeStats>>,
     /// SATF's index-calculation counters, when the frame drew SATF clusters.
     pub satf: Option<SatfCounters>,
-    /// Per-pass GPU times.
+    /// Per-pass GPU times (a pass run for several objects summed over them).
     pub timings: Timings,
+    /// Each object's own passes (voxelization, raymarch, blend), in the frame's object order.
+    pub object_timings: Vec<Timings>,
 }
 
 /// What `render` returns.
@@ -65,8 +70,31 @@ pub struct FrameStats {
     pub gpu: Option<GpuReport>,
     /// The level-of-detail blend factor of the frame (0 strands only, 1 volume only).
     pub lod: f32,
-    /// The hair volume, when the frame voxelized the hair.
+    /// The hair volume, when the frame voxelized the hair (the shared voxel counters and
+    /// every voxelized head of hair's volume).
     pub volume: Option<VolumeFrame>,
+    /// Each head of hair drawn, in the frame's order (`hair`, then `objects`; empty without
+    /// hair).
+    pub objects: Vec<ObjectFrame>,
+}
+
+/// What one head of hair of a frame was drawn as.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObjectFrame {
+    /// What drew it: strands, volume or hybrid (`auto` resolved, budget fallbacks applied).
+    pub technique: crate::Technique,
+    /// Its level-of-detail blend factor (0 strands only, 1 volume only).
+    pub lod: f32,
+    /// Its bounding sphere's diameter on screen, pixels.
+    pub size_px: f32,
+    /// The share of the frame the square around its projected bounding sphere covers.
+    pub coverage: f32,
+    /// Strand segments.
+    pub segments: u32,
+    /// Bytes of its own volume (texture and occupancy), 0 when not voxelized.
+    pub volume_bytes: u64,
+    /// Why it was drawn otherwise than asked (`"volume.budget_mib"`: its volume did not fit).
+    pub fallback: Option<&'static str>,
 }
 
 /// The hair volume of a frame.
@@ -83,9 +111,6 @@ const PENDING: u8 = 1;
 const READY: u8 = 2;
 const FAILED: u8 = 3;
 
-/// Offset of the timestamps in a slot (query resolves need 256-byte alignment downstream).
-pub(crate) const TIMESTAMP_OFFSET: u64 = 256;
-
 #[derive(Debug)]
 struct Slot {
     buffer: wgpu::Buffer,
@@ -94,16 +119,24 @@ struct Slot {
     capacity: u32,
     head_bytes: u64,
     oit: Option<(OitKind, u64)>,
-    volume: bool,
+    /// Which objects' voxel counters were copied.
+    volumes: Vec<bool>,
+    /// Objects the frame drew (their timings are parsed).
+    objects: usize,
     satf: bool,
     written: Vec<bool>,
 }
 
-/// A ring of readback buffers.
+/// A ring of readback buffers. A slot holds the OIT (or SATF) counters at 0, each object's
+/// voxel counters from [`VOLUME_OFFSET`], and the timestamps from `timestamp_offset`.
 #[derive(Debug)]
 pub(crate) struct ReadbackRing {
     slots: Vec<Slot>,
     size: u64,
+    /// Where the timestamps start (256-byte aligned, after the voxel counters).
+    timestamp_offset: u64,
+    /// Objects whose voxel counters a slot holds.
+    volume_objects: usize,
 }
 
 /// What a frame recorded into its slot.
@@ -115,6 +148,8 @@ pub(crate) struct SlotInfo {
     pub(crate) oit: Option<(OitKind, u64)>,
     /// The counters copied are SATF's (`SatfCounters`).
     pub(crate) satf: bool,
+    /// Objects the frame drew.
+    pub(crate) objects: usize,
 }
 
 impl SlotInfo {
@@ -126,16 +161,22 @@ impl SlotInfo {
             head_bytes: 0,
             oit: None,
             satf: false,
+            objects: 0,
         }
     }
 }
 
-/// Offset of the voxel statistics in a slot (after the 16 bytes of PPLL counters).
+/// Offset of the voxel statistics in a slot (after the 16 bytes of PPLL counters), 16 bytes
+/// per object.
 const VOLUME_OFFSET: u64 = 16;
 
 impl ReadbackRing {
+    /// `count` slots, each with room for the voxel counters of as many objects as `timer`
+    /// times (at least one).
     pub(crate) fn new(ctx: &GpuContext, timer: &GpuTimer, count: usize) -> Self {
-        let size = TIMESTAMP_OFFSET + timer.resolved_bytes().max(8);
+        let volume_objects = timer.objects().max(1);
+        let timestamp_offset = (VOLUME_OFFSET + 16 * volume_objects as u64).next_multiple_of(256);
+        let size = timestamp_offset + timer.resolved_bytes().max(8);
         let slots = (0..count)
             .map(|i| Slot {
                 buffer: ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -149,12 +190,18 @@ impl ReadbackRing {
                 capacity: 0,
                 head_bytes: 0,
                 oit: None,
-                volume: false,
+                volumes: Vec::new(),
+                objects: 0,
                 satf: false,
                 written: Vec::new(),
             })
             .collect();
-        ReadbackRing { slots, size }
+        ReadbackRing {
+            slots,
+            size,
+            timestamp_offset,
+            volume_objects,
+        }
     }
 
     /// An idle slot's index, if any.
@@ -177,8 +224,9 @@ impl ReadbackRing {
         if let Some(c) = counters {
             encoder.copy_buffer_to_buffer(c, 0, &slot.buffer, 0, Some(16));
         }
-        slot.volume = false;
-        timer.resolve(encoder, &slot.buffer, TIMESTAMP_OFFSET);
+        slot.volumes.clear();
+        timer.resolve(encoder, &slot.buffer, self.timestamp_offset);
+        slot.objects = info.objects;
         slot.frame = info.frame;
         slot.capacity = info.capacity;
         slot.head_bytes = info.head_bytes;
@@ -187,16 +235,25 @@ impl ReadbackRing {
         slot.written = timer.written();
     }
 
-    /// Also copy the voxel counters' statistics into slot `i` (after [`ReadbackRing::record`]).
+    /// Also copy object `object`'s voxel counters' statistics into slot `i` (after
+    /// [`ReadbackRing::record`]; objects past the slot's room are not reported).
     pub(crate) fn record_volume(
         &mut self,
         i: usize,
         encoder: &mut wgpu::CommandEncoder,
+        object: usize,
         stats: &wgpu::Buffer,
     ) {
+        if object >= self.volume_objects {
+            return;
+        }
         let slot = &mut self.slots[i];
-        encoder.copy_buffer_to_buffer(stats, 0, &slot.buffer, VOLUME_OFFSET, Some(16));
-        slot.volume = true;
+        let offset = VOLUME_OFFSET + 16 * object as u64;
+        encoder.copy_buffer_to_buffer(stats, 0, &slot.buffer, offset, Some(16));
+        if slot.volumes.len() <= object {
+            slot.volumes.resize(object + 1, false);
+        }
+        slot.volumes[object] = true;
     }
 
     /// Request the mapping of slot `i` (after the frame was submitted).
@@ -244,15 +301,34 @@ impl ReadbackRing {
                         Some((OitKind::Ppll, _)) => counters,
                         _ => PpllCounters::default(),
                     };
-                    let volume = slot.volume.then(|| {
-                        let o = VOLUME_OFFSET as usize;
-                        let v = bytemuck::pod_read_unaligned::<VoxelStats>(&bytes[o..o + 16]);
-                        VolumeStats {
-                            deposits: v.deposits,
-                            dropped: v.dropped,
-                            saturated: v.saturated,
-                        }
-                    });
+                    let object_volumes: Vec<Option<VolumeStats>> = slot
+                        .volumes
+                        .iter()
+                        .enumerate()
+                        .map(|(object, &copied)| {
+                            copied.then(|| {
+                                let o = (VOLUME_OFFSET + 16 * object as u64) as usize;
+                                let v =
+                                    bytemuck::pod_read_unaligned::<VoxelStats>(&bytes[o..o + 16]);
+                                VolumeStats {
+                                    deposits: v.deposits,
+                                    dropped: v.dropped,
+                                    saturated: v.saturated,
+                                }
+                            })
+                        })
+                        .collect();
+                    let volume =
+                        object_volumes
+                            .iter()
+                            .flatten()
+                            .copied()
+                            .reduce(|a, b| VolumeStats {
+                                deposits: a.deposits.saturating_add(b.deposits),
+                                dropped: a.dropped.saturating_add(b.dropped),
+                                saturated: a.saturated.saturating_add(b.saturated),
+                            });
+                    let stamps = &bytes[self.timestamp_offset as usize..];
                     let satf = slot
                         .satf
                         .then(|| bytemuck::pod_read_unaligned::<SatfCounters>(&bytes[..16]));
@@ -266,7 +342,9 @@ impl ReadbackRing {
                         ),
                         oit,
                         volume,
-                        timings: timer.parse(&bytes[TIMESTAMP_OFFSET as usize..], &slot.written),
+                        object_volumes,
+                        timings: timer.parse(stamps, &slot.written),
+                        object_timings: timer.parse_objects(stamps, &slot.written, slot.objects),
                     };
                     if newest.as_ref().is_none_or(|n| n.frame < report.frame) {
                         newest = Some(report);

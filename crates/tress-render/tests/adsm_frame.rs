@@ -76,6 +76,7 @@ fn frame(
         hair: Some(hair),
         head: None,
         clear: Some(wgpu::Color::BLACK),
+        objects: &[],
     };
     renderer.render(ctx, &targets.targets(), &inputs).unwrap();
     read_texture(ctx, &targets.color).unwrap()

@@ -28,6 +28,7 @@ fn inputs<'a>(
         hair,
         head,
         clear: Some(wgpu::Color::BLACK),
+        objects: &[],
     }
 }
 

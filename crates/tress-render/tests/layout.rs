@@ -93,7 +93,11 @@ fn gpu_types_match_wgsl() {
             thickness_ref,
             nodes_per_chunk,
             shortcut_k,
-            target_height
+            target_height,
+            lod_factor,
+            lod_dither,
+            _pad0,
+            _pad1
         ]
     );
     // HairLighting's trailing padding is implicit in WGSL (struct alignment), explicit in Rust.

@@ -63,6 +63,7 @@ fn render_keep(
             b: f64::from(BACKGROUND.z),
             a: 1.0,
         }),
+        objects: &[],
     };
     let stats = (0..frames)
         .map(|_| {
@@ -367,6 +368,7 @@ fn a_frame_beyond_a_16_mib_pool_comes_out_complete_with_shortcut() {
             hair: Some(&hair),
             head: Some(&head),
             clear: Some(common::BACKGROUND),
+            objects: &[],
         };
         let stats = r.render(&ctx, &t.targets(), &inputs).expect("frame");
         let oit = stats.gpu.as_ref().and_then(|g| g.oit).expect("oit");

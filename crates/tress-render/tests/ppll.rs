@@ -41,6 +41,7 @@ fn render_layers(
             b: f64::from(BACKGROUND.z),
             a: 1.0,
         }),
+        objects: &[],
     };
     let stats = (0..frames)
         .map(|_| {

@@ -59,7 +59,7 @@ fn session_frames_equal_the_renderers_frames() {
         .set_hybrid_settings(prepared.hybrid.clone())
         .unwrap();
     let hair = renderer
-        .upload_hair(&ctx, prepared.hair.as_ref().unwrap())
+        .upload_hair(&ctx, &prepared.hair().unwrap())
         .unwrap();
     for (name, technique) in [
         ("strands", Technique::Strands),
@@ -75,6 +75,7 @@ fn session_frames_equal_the_renderers_frames() {
             hair: Some(&hair),
             head: head.as_ref(),
             clear: prepared.clear_color(),
+            objects: &[],
         };
         renderer.render(&ctx, &targets.targets(), &inputs).unwrap();
         let direct = read_texture(&ctx, &targets.color).unwrap();
@@ -120,7 +121,7 @@ fn session_frames_equal_the_renderers_frames() {
     );
 
     let settings = satf_settings(&scene).unwrap();
-    let volume = load_clusters(&scene, &settings, prepared.hair.as_ref()).unwrap();
+    let volume = load_clusters(&scene, &settings, prepared.hair().as_deref()).unwrap();
     let db = SatfDatabase::new(&ctx, &common::small_satf_database(48)).unwrap();
     let geometry = SatfGeometry::new(&ctx, &volume, &db, &settings.settings).unwrap();
     let mut renderer =

@@ -102,6 +102,7 @@ impl Scene {
                 b: 0.18,
                 a: 1.0,
             }),
+            objects: &[],
         };
         let stats = self
             .renderer
@@ -198,6 +199,7 @@ fn raymarcher_draws_the_hair_and_stops_at_the_head() {
                 b: 0.18,
                 a: 1.0,
             }),
+            objects: &[],
         };
         s.renderer
             .render(&s.ctx, &s.targets.targets(), &inputs)

@@ -206,6 +206,12 @@ pub struct HairSpec {
     /// unset: 4).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cubic_segments: Option<u32>,
+    /// What draws this head of hair when the scene's technique is one of the strand renderer's
+    /// (`strands`, `volume`, `hybrid`, `auto`); unset: the scene's `technique`. A front end that
+    /// forces one technique ([`crate::Scene::force_technique`], `tress render --technique`)
+    /// clears it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub technique: Option<String>,
 }
 
 impl Default for HairSpec {
@@ -220,6 +226,7 @@ impl Default for HairSpec {
             strand_ratio: 1.0,
             material: Material::default(),
             cubic_segments: None,
+            technique: None,
         }
     }
 }
@@ -269,6 +276,27 @@ impl HairSpec {
                     tress_hair::formats::curves::MAX_CUBIC_SEGMENTS
                 ),
             ));
+        }
+        if let Some(t) = &self.technique {
+            match t.parse::<crate::TechniqueKind>() {
+                Ok(kind) if kind.per_object() => {}
+                Ok(kind) => {
+                    return Err(SceneError::invalid(
+                        format!("{key}.technique"),
+                        format!(
+                            "`{kind}` draws the whole scene, not one head of hair (give it as \
+                             the scene's `technique`; per head of hair: strands, volume, \
+                             hybrid or auto)"
+                        ),
+                    ));
+                }
+                Err(e) => {
+                    return Err(SceneError::invalid(
+                        format!("{key}.technique"),
+                        e.to_string(),
+                    ));
+                }
+            }
         }
         self.material.validate(&format!("{key}.material"))
     }

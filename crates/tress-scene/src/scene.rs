@@ -233,7 +233,8 @@ impl Scene {
         Some(match name.parse::<TechniqueKind>().ok()? {
             TechniqueKind::Strands => &self.strands,
             TechniqueKind::Volume => &self.volume,
-            TechniqueKind::Hybrid => &self.hybrid,
+            // `auto` chooses among strands, volume and hybrid with `[hybrid]`'s thresholds.
+            TechniqueKind::Hybrid | TechniqueKind::Auto => &self.hybrid,
             TechniqueKind::Patches => &self.patches,
             TechniqueKind::Satf => &self.satf,
         })
@@ -242,6 +243,30 @@ impl Scene {
     /// The scene's technique ([`Scene::validate`] checks that `technique` names one).
     pub fn technique_kind(&self) -> Result<TechniqueKind, crate::UnknownTechnique> {
         self.technique.parse()
+    }
+
+    /// The technique that draws `[[hair]]` entry `index`: its own `technique` when the scene's
+    /// is one of the strand renderer's, else the scene's (patches and SATF draw every entry).
+    pub fn hair_technique(&self, index: usize) -> Result<TechniqueKind, crate::UnknownTechnique> {
+        let scene = self.technique_kind()?;
+        match self.hair.get(index).and_then(|h| h.technique.as_deref()) {
+            Some(own) if scene.per_object() => own.parse(),
+            _ => Ok(scene),
+        }
+    }
+
+    /// Draw everything with `technique`: the scene's `technique`, and no `[[hair]]` entry keeps
+    /// a technique of its own (what `tress render --technique` and the viewer's switch mean).
+    /// Errors, and leaves the scene unchanged, for an unknown name.
+    pub fn force_technique(&mut self, technique: &str) -> Result<(), SceneError> {
+        if let Err(e) = technique.parse::<TechniqueKind>() {
+            return Err(SceneError::invalid("technique", e.to_string()));
+        }
+        self.technique = technique.to_owned();
+        for h in &mut self.hair {
+            h.technique = None;
+        }
+        Ok(())
     }
 
     /// Deserialize a technique's table into the technique's settings struct.
@@ -316,6 +341,45 @@ impl Scene {
         })
     }
 
+    /// Every generated head the scene draws: with a generated head ([`Scene::head_source`]),
+    /// one for each `[[hair]]` entry with a generator, placed by its transform and shaped for
+    /// its style (a crowd of generated characters has a head each), the same placed head once;
+    /// the one of [`Scene::head_source`] when no entry has a generator; none with an OBJ head
+    /// or `generated = false`. The first is [`Scene::head_source`]'s.
+    pub fn generated_heads(&self) -> Vec<GeneratedHead> {
+        let HeadSource::Generated(first) = self.head_source() else {
+            return Vec::new();
+        };
+        let mut heads = vec![first];
+        for h in &self.hair {
+            let Some(style) = h
+                .generator
+                .as_ref()
+                .and_then(|g| g.style.parse::<Style>().ok())
+            else {
+                continue;
+            };
+            let base = generate::head_for(style);
+            let head = GeneratedHead {
+                head: Head {
+                    center: self.head.center.unwrap_or(base.center),
+                    radii: self.head.radii.unwrap_or(base.radii),
+                },
+                shape: self
+                    .head
+                    .shape
+                    .as_deref()
+                    .and_then(|s| s.parse().ok())
+                    .unwrap_or_else(|| generate::shape_for(style)),
+                placement: h.transform.affine(),
+            };
+            if !heads.contains(&head) {
+                heads.push(head);
+            }
+        }
+        heads
+    }
+
     /// Read or generate every `[[hair]]` entry, in order: the files (merged) or the generator,
     /// then follow hairs, then the `strand_ratio` subset (seed 0), then the transform (which also
     /// scales per-vertex thickness by `scale`). Errors name the entry.
@@ -334,12 +398,7 @@ impl Scene {
             for m in found {
                 match &mut mesh {
                     None => mesh = Some(m),
-                    Some(all) => {
-                        let base = all.positions.len() as u32;
-                        all.positions.extend(m.positions);
-                        all.normals.extend(m.normals);
-                        all.indices.extend(m.indices.iter().map(|i| i + base));
-                    }
+                    Some(all) => all.append(&m),
                 }
             }
         }

@@ -19,6 +19,11 @@ pub enum TechniqueKind {
     Patches,
     /// Xu et al. 2006's semantics-aware texture function, `"satf"`.
     Satf,
+    /// Per head of hair and per frame, from its size on screen: strands near, volume far, the
+    /// hybrid's blend between (`[hybrid]` `auto_near_px`, `auto_far_px`), `"auto"`. Not in
+    /// [`TechniqueKind::ALL`]: it chooses among strands, volume and hybrid rather than drawing
+    /// on its own.
+    Auto,
 }
 
 impl TechniqueKind {
@@ -39,16 +44,36 @@ impl TechniqueKind {
             TechniqueKind::Hybrid => "hybrid",
             TechniqueKind::Patches => "patches",
             TechniqueKind::Satf => "satf",
+            TechniqueKind::Auto => "auto",
         }
     }
 
-    /// Whether the technique draws the hair's strands as loaded (strands, volume, hybrid), so
-    /// that moving them moves what it draws; patches and SATF build their own geometry.
-    pub const fn draws_strands(self) -> bool {
+    /// Every name [`FromStr`] reads: [`TechniqueKind::ALL`], then `auto`.
+    pub const NAMES: [&'static str; 6] = [
+        TECHNIQUES[0],
+        TECHNIQUES[1],
+        TECHNIQUES[2],
+        TECHNIQUES[3],
+        TECHNIQUES[4],
+        TechniqueKind::Auto.name(),
+    ];
+
+    /// Whether the technique can be given per head of hair (`[[hair]] technique`): the strand
+    /// renderer's strands, volume, hybrid and auto. Patches and SATF draw the whole scene.
+    pub const fn per_object(self) -> bool {
         matches!(
             self,
-            TechniqueKind::Strands | TechniqueKind::Volume | TechniqueKind::Hybrid
+            TechniqueKind::Strands
+                | TechniqueKind::Volume
+                | TechniqueKind::Hybrid
+                | TechniqueKind::Auto
         )
+    }
+
+    /// Whether the technique draws the hair's strands as loaded (strands, volume, hybrid, auto),
+    /// so that moving them moves what it draws; patches and SATF build their own geometry.
+    pub const fn draws_strands(self) -> bool {
+        self.per_object()
     }
 }
 
@@ -69,7 +94,7 @@ impl fmt::Display for TechniqueKind {
 
 /// A name that is no technique.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown technique `{0}` (expected one of: strands, volume, hybrid, patches, satf)")]
+#[error("unknown technique `{0}` (expected one of: strands, volume, hybrid, patches, satf, auto)")]
 pub struct UnknownTechnique(pub String);
 
 impl FromStr for TechniqueKind {
@@ -78,6 +103,7 @@ impl FromStr for TechniqueKind {
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         TechniqueKind::ALL
             .into_iter()
+            .chain([TechniqueKind::Auto])
             .find(|t| t.name() == s)
             .ok_or_else(|| UnknownTechnique(s.to_owned()))
     }
@@ -89,10 +115,12 @@ mod tests {
 
     #[test]
     fn every_name_round_trips() {
-        for t in TechniqueKind::ALL {
+        for t in TechniqueKind::ALL.into_iter().chain([TechniqueKind::Auto]) {
             assert_eq!(t.to_string().parse::<TechniqueKind>(), Ok(t));
             assert_eq!(t.to_string(), t.name());
+            assert!(TechniqueKind::NAMES.contains(&t.name()));
         }
+        assert_eq!(TechniqueKind::NAMES.len(), TechniqueKind::ALL.len() + 1);
         assert_eq!(
             TECHNIQUES,
             ["strands", "volume", "hybrid", "patches", "satf"]
@@ -108,7 +136,7 @@ mod tests {
             e.to_string(),
             format!(
                 "unknown technique `raytrace` (expected one of: {})",
-                TECHNIQUES.join(", ")
+                TechniqueKind::NAMES.join(", ")
             )
         );
         assert!(

@@ -100,7 +100,9 @@ pub(crate) fn run(
     let targets = OffscreenTargets::new(ctx, size, COLOR_FORMAT)?;
     let camera = session.camera(size);
     // The hair at rest (a copy only when it moves).
-    let rest = seq.animate.and(session.prepared().hair.clone());
+    let rest = seq
+        .animate
+        .and(session.prepared().hair().map(std::borrow::Cow::into_owned));
     let mut reports = Vec::new();
     for i in 0..frames {
         if let Some(asset) = &rest {

@@ -213,10 +213,10 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let session = open_session(&ctx, &scene, auto_frame, args.sets.clone(), None);
     pb.finish_and_clear();
     let mut session = session?;
-    let Some(asset) = session.prepared().hair.as_ref() else {
+    if session.prepared().objects.is_empty() {
         bail!("the scene has no hair to compare");
-    };
-    let (strands, segments) = (asset.strand_count(), asset.segment_count());
+    }
+    let (strands, segments) = session.prepared().hair_counts();
     let scene = session.scene().clone();
     let size = [scene.output.width, scene.output.height];
     let targets = OffscreenTargets::new(&ctx, size, COLOR_FORMAT)?;

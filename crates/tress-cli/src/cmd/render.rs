@@ -74,7 +74,8 @@ pub(crate) fn apply_options(
         scene.apply_override(&format!("output.height={h}"))?;
     }
     if let Some(t) = technique {
-        scene.apply_override(&format!("technique=\"{t}\""))?;
+        // Every head of hair with this technique (their own `technique` keys dropped).
+        scene.force_technique(t)?;
     }
     scene.apply_overrides(sets)?;
     Ok(())

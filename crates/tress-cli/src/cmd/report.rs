@@ -47,11 +47,7 @@ impl Report {
         frame: &SessionFrame,
         output: &Path,
     ) -> Report {
-        let (strands, segments) = session
-            .prepared()
-            .hair
-            .as_ref()
-            .map_or((0, 0), |h| (h.strand_count(), h.segment_count()));
+        let (strands, segments) = session.prepared().hair_counts();
         let mut report = Report {
             technique: frame.technique.to_string(),
             width: frame.size[0],

@@ -269,6 +269,24 @@ impl TriMesh {
         (b.center(), b.size().length() * 0.5)
     }
 
+    /// Add `other`'s triangles to this mesh (its indices moved past this mesh's vertices).
+    pub fn append(&mut self, other: &TriMesh) {
+        let base = self.positions.len() as u32;
+        self.positions.extend_from_slice(&other.positions);
+        self.normals.extend_from_slice(&other.normals);
+        self.indices.extend(other.indices.iter().map(|i| i + base));
+    }
+
+    /// The meshes with triangles, in order, as one mesh (`None` when none has any).
+    pub fn merge(meshes: &[TriMesh]) -> Option<TriMesh> {
+        let mut iter = meshes.iter().filter(|m| !m.indices.is_empty());
+        let mut out = iter.next()?.clone();
+        for m in iter {
+            out.append(m);
+        }
+        Some(out)
+    }
+
     /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
@@ -319,6 +337,22 @@ mod tests {
             center: Vec3::new(1.0, 2.0, -3.0),
             ..Head::default()
         }
+    }
+
+    #[test]
+    fn merged_meshes_keep_every_triangle_on_its_own_vertices() {
+        let a = TriMesh::uv_sphere(Vec3::ZERO, 1.0, 3, 4);
+        let b = TriMesh::uv_sphere(Vec3::X * 5.0, 2.0, 2, 3);
+        let m = TriMesh::merge(&[a.clone(), TriMesh::default(), b.clone()]).unwrap();
+        assert_eq!(m.positions.len(), a.positions.len() + b.positions.len());
+        assert_eq!(m.triangle_count(), a.triangle_count() + b.triangle_count());
+        let tri = |mesh: &TriMesh, t: usize| -> [Vec3; 3] {
+            [0, 1, 2].map(|k| mesh.positions[mesh.indices[3 * t + k] as usize])
+        };
+        for t in 0..b.triangle_count() {
+            assert_eq!(tri(&m, a.triangle_count() + t), tri(&b, t));
+        }
+        assert_eq!(TriMesh::merge(&[TriMesh::default()]), None);
     }
 
     #[test]

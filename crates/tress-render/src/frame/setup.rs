@@ -5,7 +5,7 @@ use wgpu::util::DeviceExt;
 
 use super::{PASS_NAMES, Renderer};
 use crate::bind::Layouts;
-use crate::gpu::types::{CameraUniform, LightsUniform, MaterialUniform, StrandParams};
+use crate::gpu::types::{CameraUniform, LightsUniform};
 use crate::gpu::{GpuTimer, TargetFormats};
 use crate::head::HeadPass;
 use crate::lod::{HybridSettings, LodBlend, Technique};
@@ -15,7 +15,11 @@ use crate::strands::{ShadowMap, StrandGeometry, StrandSettings};
 use crate::volume::{Raymarch, VolumeBinding, VolumeSettings, Voxelizer, volume_resources};
 use crate::{GpuContext, MAX_LIGHTS, RenderError};
 
-fn uniform_buffer<T: bytemuck::Pod>(ctx: &GpuContext, label: &str, value: &T) -> wgpu::Buffer {
+pub(super) fn uniform_buffer<T: bytemuck::Pod>(
+    ctx: &GpuContext,
+    label: &str,
+    value: &T,
+) -> wgpu::Buffer {
     ctx.device
         .create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some(label),
@@ -33,55 +37,29 @@ impl Renderer {
     ) -> Result<Self, RenderError> {
         settings.validate()?;
         let layouts = ctx.scoped("creating bind group layouts", || Layouts::new(&ctx.device))?;
-        let (camera, params, lights, material) = ctx.scoped("creating uniforms", || {
+        let (camera, lights, params0) = ctx.scoped("creating uniforms", || {
             (
                 uniform_buffer(ctx, "frame/uniforms/camera", &CameraUniform::default()),
-                uniform_buffer(ctx, "frame/uniforms/params", &StrandParams::default()),
                 uniform_buffer(ctx, "frame/uniforms/lights", &LightsUniform::default()),
-                uniform_buffer(ctx, "frame/uniforms/material", &MaterialUniform::default()),
+                uniform_buffer(
+                    ctx,
+                    "frame/uniforms/params",
+                    &crate::gpu::types::StrandParams::default(),
+                ),
             )
         })?;
-        let view_group = ctx.scoped("creating the view bind group", || {
-            ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("frame/view/bind-group"),
-                layout: &layouts.view,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: camera.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: params.as_entire_binding(),
-                    },
-                ],
-            })
-        })?;
-        let shadow = ShadowMap::new(ctx, &layouts, &params, settings.shadow_map_size)?;
-        let (volume_params, volume_sampler, fallback_volume) = volume_resources(ctx)?;
-        let lighting_group = Self::lighting_group(
-            ctx,
-            &layouts,
-            &lights,
-            &material,
-            &shadow,
-            VolumeBinding {
-                view: &fallback_volume.0,
-                sampler: &volume_sampler,
-                grid: &fallback_volume.1,
-                params: &volume_params,
-            },
-        )?;
-        let timer = GpuTimer::new(ctx, "frame", PASS_NAMES);
+        // The light cameras read the settings every head of hair shares from object 0's.
+        let shadow = ShadowMap::new(ctx, &layouts, &params0, settings.shadow_map_size)?;
+        let (_, volume_sampler, fallback_volume) = volume_resources(ctx)?;
+        let timer = GpuTimer::with_objects(ctx, "frame", PASS_NAMES, super::MAX_OBJECTS);
         let ring = ReadbackRing::new(ctx, &timer, 3);
-        Ok(Renderer {
+        let mut renderer = Renderer {
             formats,
             technique: Technique::Strands,
             volume_settings: VolumeSettings::default(),
             hybrid: HybridSettings::default(),
             raymarch: Raymarch::new(ctx, &layouts, formats.color)?,
             lod_blend: LodBlend::new(ctx, formats.color)?,
-            volume_params,
             volume_sampler,
             fallback_volume,
             voxelizer: None,
@@ -91,21 +69,21 @@ impl Renderer {
             settings,
             layouts,
             camera,
-            params,
             lights,
-            material,
-            view_group,
-            lighting_group,
+            slots: Vec::new(),
             shadow,
             timer,
             ring,
             stats_readback: StatsReadback::Wait,
-            fiber: Default::default(),
+            warned: Vec::new(),
             frame: 0,
-        })
+        };
+        let slot0 = renderer.new_slot(ctx, 0, Some(params0))?;
+        renderer.slots.push(slot0);
+        Ok(renderer)
     }
 
-    fn lighting_group(
+    pub(super) fn lighting_group(
         ctx: &GpuContext,
         layouts: &Layouts,
         lights: &wgpu::Buffer,
@@ -180,9 +158,13 @@ impl Renderer {
     ) -> Result<(), RenderError> {
         settings.validate()?;
         if settings.shadow_map_size != self.shadow.size() {
-            self.shadow =
-                ShadowMap::new(ctx, &self.layouts, &self.params, settings.shadow_map_size)?;
-            self.rebuild_lighting_group(ctx)?;
+            self.shadow = ShadowMap::new(
+                ctx,
+                &self.layouts,
+                &self.slots[0].params,
+                settings.shadow_map_size,
+            )?;
+            self.refresh_lighting_groups(ctx, true)?;
         }
         if settings.ppll_nodes_per_pixel != self.settings.ppll_nodes_per_pixel
             || settings.ppll_max_bytes != self.settings.ppll_max_bytes
@@ -211,8 +193,8 @@ impl Renderer {
     }
 
     /// Change the volume settings (validated, and the resolution checked against the device's
-    /// limits). A new resolution reallocates the volume now when it exists, else at the next
-    /// frame that needs it.
+    /// limits). A new resolution reallocates the volumes now when they exist, else at the next
+    /// frame that needs them.
     pub fn set_volume_settings(
         &mut self,
         ctx: &GpuContext,
@@ -225,7 +207,7 @@ impl Renderer {
         {
             v.set_resolution(ctx, settings.resolution)?;
             self.volume_settings = settings;
-            return self.rebuild_lighting_group(ctx);
+            return self.refresh_lighting_groups(ctx, true);
         }
         self.volume_settings = settings;
         Ok(())
@@ -246,27 +228,6 @@ impl Renderer {
     /// The voxelizer, once a frame has needed the volume (for tools: its texture, a readback).
     pub fn voxelizer(&self) -> Option<&Voxelizer> {
         self.voxelizer.as_ref()
-    }
-
-    pub(super) fn rebuild_lighting_group(&mut self, ctx: &GpuContext) -> Result<(), RenderError> {
-        let (view, grid) = match &self.voxelizer {
-            Some(v) => (v.view(), v.grid_uniform()),
-            None => (&self.fallback_volume.0, &self.fallback_volume.1),
-        };
-        self.lighting_group = Self::lighting_group(
-            ctx,
-            &self.layouts,
-            &self.lights,
-            &self.material,
-            &self.shadow,
-            VolumeBinding {
-                view,
-                sampler: &self.volume_sampler,
-                grid,
-                params: &self.volume_params,
-            },
-        )?;
-        Ok(())
     }
 
     /// Bytes of the shadow maps (one depth layer per possible light).

@@ -62,25 +62,50 @@ impl fmt::Display for Timings {
 }
 
 /// A query set with two timestamps per pass and the buffer they resolve into.
+///
+/// Passes are named (`names`); a frame that draws several objects (heads of hair) times a pass
+/// once for the frame ([`GpuTimer::render_writes`]) or once per object
+/// ([`GpuTimer::object_render_writes`]), each in a slot of its own. [`GpuTimer::parse`] sums a
+/// pass over the frame and its objects; [`GpuTimer::parse_objects`] gives each object's.
 #[derive(Debug)]
 pub(crate) struct GpuTimer {
     queries: Option<(wgpu::QuerySet, wgpu::Buffer)>,
     names: &'static [&'static str],
-    /// Which passes wrote their end timestamp this frame (cells: the passes take timestamp
-    /// writes while other parts of the renderer are borrowed).
+    /// Objects timed on their own (slots after the frame's).
+    objects: usize,
+    /// Which passes of which slot wrote their end timestamp this frame (cells: the passes take
+    /// timestamp writes while other parts of the renderer are borrowed).
     written: Vec<Cell<bool>>,
+    /// Slots in use this frame (the frame's and those of the objects timed so far).
+    used: Cell<usize>,
     period_ns: f64,
 }
 
 impl GpuTimer {
     /// Bytes the resolved timestamps occupy (copied into a frame's readback buffer).
     pub(crate) fn resolved_bytes(&self) -> u64 {
-        self.names.len() as u64 * 16
+        self.names.len() as u64 * 16 * (1 + self.objects as u64)
+    }
+
+    /// Objects this timer times on their own.
+    pub(crate) fn objects(&self) -> usize {
+        self.objects
     }
 
     pub(crate) fn new(ctx: &GpuContext, label: &str, names: &'static [&'static str]) -> Self {
+        Self::with_objects(ctx, label, names, 0)
+    }
+
+    /// A timer that also times up to `objects` objects' passes each on their own.
+    pub(crate) fn with_objects(
+        ctx: &GpuContext,
+        label: &str,
+        names: &'static [&'static str],
+        objects: usize,
+    ) -> Self {
+        let slots = 1 + objects;
         let queries = ctx.caps.timestamps.then(|| {
-            let count = names.len() as u32 * 2;
+            let count = (names.len() * slots) as u32 * 2;
             let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some(&format!("{label}/timestamps")),
                 ty: wgpu::QueryType::Timestamp,
@@ -97,7 +122,9 @@ impl GpuTimer {
         GpuTimer {
             queries,
             names,
-            written: vec![Cell::new(false); names.len()],
+            objects,
+            written: vec![Cell::new(false); names.len() * slots],
+            used: Cell::new(1),
             period_ns: f64::from(ctx.queue.get_timestamp_period()),
         }
     }
@@ -105,10 +132,78 @@ impl GpuTimer {
     /// Forget which passes were written (call at the start of a frame).
     pub(crate) fn begin_frame(&self) {
         self.written.iter().for_each(|w| w.set(false));
+        self.used.set(1);
     }
 
-    fn index(&self, name: &str) -> Option<usize> {
-        self.names.iter().position(|n| *n == name)
+    /// The pass's index over all slots: `name` in slot 0 (the frame) or in object `object`'s.
+    fn index(&self, name: &str, object: Option<usize>) -> Option<usize> {
+        let slot = match object {
+            None => 0,
+            Some(o) if o < self.objects => o + 1,
+            Some(_) => return None,
+        };
+        let i = self.names.iter().position(|n| *n == name)?;
+        self.used.set(self.used.get().max(slot + 1));
+        Some(slot * self.names.len() + i)
+    }
+
+    /// Timestamp writes for a render pass of object `object` (see [`GpuTimer::render_writes`];
+    /// none beyond the objects this timer times).
+    pub(crate) fn object_render_writes(
+        &self,
+        name: &str,
+        object: usize,
+        begin: bool,
+        end: bool,
+    ) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let i = self.index(name, Some(object))?;
+        self.pass_writes(i, begin, end)
+            .map(|(query_set, b, e)| wgpu::RenderPassTimestampWrites {
+                query_set,
+                beginning_of_pass_write_index: b,
+                end_of_pass_write_index: e,
+            })
+    }
+
+    /// Timestamp writes for a compute pass of object `object`.
+    pub(crate) fn object_compute_writes(
+        &self,
+        name: &str,
+        object: usize,
+        begin: bool,
+        end: bool,
+    ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        let i = self.index(name, Some(object))?;
+        self.pass_writes(i, begin, end)
+            .map(|(query_set, b, e)| wgpu::ComputePassTimestampWrites {
+                query_set,
+                beginning_of_pass_write_index: b,
+                end_of_pass_write_index: e,
+            })
+    }
+
+    /// The query set and the begin and end query indices of pass `i` (over all slots), marking
+    /// it written when the end is.
+    fn pass_writes(
+        &self,
+        i: usize,
+        begin: bool,
+        end: bool,
+    ) -> Option<(&wgpu::QuerySet, Option<u32>, Option<u32>)> {
+        // A pass between the first and the last of a timed run writes nothing (wgpu rejects
+        // timestamp writes with neither index: a scene with three lights failed every frame).
+        if !(begin || end) {
+            return None;
+        }
+        let (set, _) = self.queries.as_ref()?;
+        if end {
+            self.written[i].set(true);
+        }
+        Some((
+            set,
+            begin.then_some(2 * i as u32),
+            end.then_some(2 * i as u32 + 1),
+        ))
     }
 
     /// Timestamp writes for a render pass. `begin`/`end` select which of the pass's two
@@ -120,21 +215,13 @@ impl GpuTimer {
         begin: bool,
         end: bool,
     ) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        // A pass between the first and the last of a timed run writes nothing (wgpu rejects
-        // timestamp writes with neither index: a scene with three lights failed every frame).
-        if !(begin || end) {
-            return None;
-        }
-        let i = self.index(name)?;
-        let (set, _) = self.queries.as_ref()?;
-        if end {
-            self.written[i].set(true);
-        }
-        Some(wgpu::RenderPassTimestampWrites {
-            query_set: set,
-            beginning_of_pass_write_index: begin.then_some(2 * i as u32),
-            end_of_pass_write_index: end.then_some(2 * i as u32 + 1),
-        })
+        let i = self.index(name, None)?;
+        self.pass_writes(i, begin, end)
+            .map(|(query_set, b, e)| wgpu::RenderPassTimestampWrites {
+                query_set,
+                beginning_of_pass_write_index: b,
+                end_of_pass_write_index: e,
+            })
     }
 
     /// Timestamp writes for a compute pass (`begin`/`end` as in [`GpuTimer::render_writes`]).
@@ -144,22 +231,17 @@ impl GpuTimer {
         begin: bool,
         end: bool,
     ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        if !(begin || end) {
-            return None;
-        }
-        let i = self.index(name)?;
-        let (set, _) = self.queries.as_ref()?;
-        if end {
-            self.written[i].set(true);
-        }
-        Some(wgpu::ComputePassTimestampWrites {
-            query_set: set,
-            beginning_of_pass_write_index: begin.then_some(2 * i as u32),
-            end_of_pass_write_index: end.then_some(2 * i as u32 + 1),
-        })
+        let i = self.index(name, None)?;
+        self.pass_writes(i, begin, end)
+            .map(|(query_set, b, e)| wgpu::ComputePassTimestampWrites {
+                query_set,
+                beginning_of_pass_write_index: b,
+                end_of_pass_write_index: e,
+            })
     }
 
-    /// Resolve the queries and copy them to `dst` at `offset` (`resolved_bytes` bytes).
+    /// Resolve the queries of the slots used this frame and copy them to `dst` at `offset`
+    /// (at most `resolved_bytes` bytes).
     pub(crate) fn resolve(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -167,7 +249,7 @@ impl GpuTimer {
         offset: u64,
     ) {
         if let Some((set, resolve)) = &self.queries {
-            let count = self.names.len() as u32 * 2;
+            let count = (self.names.len() * self.used.get()) as u32 * 2;
             encoder.resolve_query_set(set, 0..count, resolve, 0);
             encoder.copy_buffer_to_buffer(resolve, 0, dst, offset, Some(u64::from(count) * 8));
         }
@@ -178,28 +260,68 @@ impl GpuTimer {
         self.written.iter().map(Cell::get).collect()
     }
 
-    /// Turn resolved timestamps into timings, keeping the passes flagged in `written`.
+    /// The milliseconds of pass `i` (over all slots) if it was written and resolved.
+    fn pass_ms(&self, bytes: &[u8], written: &[bool], i: usize) -> Option<f64> {
+        if !written.get(i).copied().unwrap_or(false) || bytes.len() < (i + 1) * 16 {
+            return None;
+        }
+        let ts = |q: usize| {
+            let b = &bytes[q * 8..q * 8 + 8];
+            u64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]])
+        };
+        Some(ts(2 * i + 1).saturating_sub(ts(2 * i)) as f64 * self.period_ns * 1e-6)
+    }
+
+    /// Turn resolved timestamps into timings, keeping the passes flagged in `written`: each
+    /// pass once, its time summed over the frame's slot and every object's.
     pub(crate) fn parse(&self, bytes: &[u8], written: &[bool]) -> Timings {
         if self.queries.is_none() {
             return Timings::NotSupported;
         }
-        let ts = |i: usize| {
-            let b = &bytes[i * 8..i * 8 + 8];
-            u64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]])
-        };
+        let n = self.names.len();
         let passes = self
             .names
             .iter()
             .enumerate()
-            .filter(|(i, _)| {
-                written.get(*i).copied().unwrap_or(false) && bytes.len() >= (i + 1) * 16
-            })
-            .map(|(i, name)| PassTiming {
-                name,
-                ms: ts(2 * i + 1).saturating_sub(ts(2 * i)) as f64 * self.period_ns * 1e-6,
+            .filter_map(|(i, name)| {
+                let times: Vec<f64> = (0..=self.objects)
+                    .filter_map(|slot| self.pass_ms(bytes, written, slot * n + i))
+                    .collect();
+                (!times.is_empty()).then(|| PassTiming {
+                    name,
+                    ms: times.iter().sum(),
+                })
             })
             .collect();
         Timings::Passes(passes)
+    }
+
+    /// Each object's own passes (those timed with [`GpuTimer::object_render_writes`] or
+    /// [`GpuTimer::object_compute_writes`]), for the first `count` objects.
+    pub(crate) fn parse_objects(
+        &self,
+        bytes: &[u8],
+        written: &[bool],
+        count: usize,
+    ) -> Vec<Timings> {
+        let n = self.names.len();
+        (0..count.min(self.objects))
+            .map(|o| {
+                if self.queries.is_none() {
+                    return Timings::NotSupported;
+                }
+                Timings::Passes(
+                    self.names
+                        .iter()
+                        .enumerate()
+                        .filter_map(|(i, name)| {
+                            self.pass_ms(bytes, written, (o + 1) * n + i)
+                                .map(|ms| PassTiming { name, ms })
+                        })
+                        .collect(),
+                )
+            })
+            .collect()
     }
 }
 

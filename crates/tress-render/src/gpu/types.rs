@@ -120,6 +120,15 @@ pub struct StrandParams {
     pub shortcut_k: u32,
     /// Height of the color target.
     pub target_height: u32,
+    /// The blend factor of a hybrid head of hair drawn dithered (`lod_dither`).
+    pub lod_factor: f32,
+    /// 1: a hybrid head of hair in a frame of several, its strands and volume sharing the
+    /// pixels by the 4 × 4 dither (`tress_shading::dither_threshold`); 0 otherwise.
+    pub lod_dither: u32,
+    /// Padding to 16 bytes.
+    pub _pad0: u32,
+    /// Padding to 16 bytes.
+    pub _pad1: u32,
 }
 
 /// `struct HairLighting` in `shaders/common/shading.wgsl` (twin of `tress_shading::HairLighting`).

@@ -47,7 +47,6 @@ use std::time::Instant;
 
 use glam::{Affine3A, Vec3};
 use serde::Deserialize;
-use tress_hair::HairAsset;
 use tress_hair::generate::Head;
 use tress_hair::patches::{
     AoParams, AoSides, CardParams, HairTextures, PatchMesh, PatchParams, bake_ao, generate_patches,
@@ -348,12 +347,12 @@ pub fn load_patches(scene: &Scene, prepared: &PreparedScene) -> Result<PatchScen
             mesh
         }
         PatchSource::Strands => {
-            let hair: &HairAsset = prepared.hair.as_ref().ok_or_else(|| {
+            let hair = prepared.hair().ok_or_else(|| {
                 RenderError::Invalid(
                     "patches.source = \"strands\" but the scene has no hair".into(),
                 )
             })?;
-            PatchMesh::from_strands(hair, &card_params(&t.cards))?
+            PatchMesh::from_strands(&hair, &card_params(&t.cards))?
         }
     };
     let bake = t.ao.bake.unwrap_or(!matches!(source, PatchSource::Obj(_)));

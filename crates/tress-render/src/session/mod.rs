@@ -3,8 +3,10 @@
 //!
 //! A [`Session`] loads a [`Scene`] once (hair, head, lights), uploads what the current technique
 //! needs on first use and keeps it while other techniques are tried: the strand renderer
-//! ([`Renderer`]) draws `strands`, `volume` and `hybrid`, [`PatchRenderer`] draws `patches` and
-//! [`SatfRenderer`] draws `satf`. Settings change by the scene's dotted names
+//! ([`Renderer`]) draws `strands`, `volume`, `hybrid` and `auto`, every `[[hair]]` entry as a
+//! head of hair of its own ([`crate::HairObject`], with its material and technique: a scene of
+//! several characters), [`PatchRenderer`] draws `patches` and [`SatfRenderer`] draws `satf`
+//! (every entry merged). Settings change by the scene's dotted names
 //! ([`Session::set`]), and every frame reports its per-pass GPU times and a [`Memory`] breakdown.
 //!
 //! ```no_run
@@ -38,10 +40,10 @@ use crate::patches::scene::{PatchScene, load_patches, patch_settings};
 use crate::satf::scene::{SatfScene, load_clusters, satf_settings};
 use crate::scene_setup::{PreparedScene, frame_bounds};
 use crate::{
-    Camera, DirectionalLight, FrameInputs, FrameStats, GpuContext, HeadGeometry, LinearImage,
-    PatchFrameInputs, PatchFrameStats, PatchGeometry, PatchRenderer, RenderError, Renderer,
-    SatfDatabase, SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, StatsReadback,
-    StrandGeometry, TargetFormats, Targets, Technique, Timings,
+    Camera, DirectionalLight, FrameInputs, FrameStats, GpuContext, HairObject, HeadGeometry,
+    LinearImage, PatchFrameInputs, PatchFrameStats, PatchGeometry, PatchRenderer, RenderError,
+    Renderer, SatfDatabase, SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer,
+    StatsReadback, StrandGeometry, TargetFormats, Targets, Technique, Timings,
 };
 
 /// The techniques a session draws, in the order the viewer cycles them (the names of
@@ -86,7 +88,7 @@ impl std::fmt::Debug for SessionOptions {
 /// What one technique reported about a frame.
 #[derive(Clone, Debug, PartialEq)]
 pub enum FrameDetail {
-    /// `strands`, `volume` or `hybrid`.
+    /// `strands`, `volume`, `hybrid` or `auto` (each head of hair's in `objects`).
     Strands(FrameStats),
     /// `patches`.
     Patches(PatchFrameStats),
@@ -115,7 +117,8 @@ pub struct SessionFrame {
 
 struct StrandPath {
     renderer: Renderer,
-    hair: Option<StrandGeometry>,
+    /// Each `[[hair]]` entry's strands.
+    hair: Vec<StrandGeometry>,
 }
 
 struct PatchPath {
@@ -200,8 +203,7 @@ fn load_scene(
     scene.apply_overrides(overrides)?;
     technique_name(&scene.technique)?;
     let mut prepared = PreparedScene::load(&scene)?;
-    if let (true, Some(h)) = (auto_frame, &prepared.hair) {
-        let b = h.bounds();
+    if let (true, Some(b)) = (auto_frame, prepared.hair_bounds()) {
         frame_bounds(&mut scene, b.min, b.max);
         scene.apply_overrides(overrides)?;
         prepared = prepared.reload_settings(&scene)?;
@@ -239,9 +241,11 @@ impl Session {
         };
         session.prepare(ctx)?;
         // Cards without hair (an OBJ) are framed on the cards.
-        if let (true, None, Some(p)) =
-            (options.auto_frame, &session.prepared.hair, &session.patches)
-            && let Some(b) = p.scene.mesh.bounds()
+        if let (true, true, Some(p)) = (
+            options.auto_frame,
+            session.prepared.objects.is_empty(),
+            &session.patches,
+        ) && let Some(b) = p.scene.mesh.bounds()
         {
             frame_bounds(&mut session.scene, b.min, b.max);
             session.scene.apply_overrides(&options.overrides)?;
@@ -279,17 +283,31 @@ impl Session {
         &self.prepared.lights
     }
 
-    /// Switch technique, uploading what it needs on first use. On error the technique is
-    /// unchanged.
+    /// Switch technique for every head of hair (each `[[hair]]` entry's own `technique` is
+    /// dropped: [`Scene::force_technique`]), uploading what it needs on first use. On error the
+    /// technique is unchanged.
     pub fn set_technique(&mut self, ctx: &GpuContext, name: &str) -> Result<(), RenderError> {
         let kind = technique_kind(name)?;
-        let old = self.technique;
+        let old = (
+            self.technique,
+            self.prepared
+                .objects
+                .iter()
+                .map(|o| o.technique)
+                .collect::<Vec<_>>(),
+        );
         self.technique = kind;
+        for o in &mut self.prepared.objects {
+            o.technique = kind;
+        }
         if let Err(e) = self.prepare(ctx) {
-            self.technique = old;
+            self.technique = old.0;
+            for (o, t) in self.prepared.objects.iter_mut().zip(old.1) {
+                o.technique = t;
+            }
             return Err(e);
         }
-        self.scene.technique = kind.name().to_string();
+        self.scene.force_technique(kind.name())?;
         Ok(())
     }
 
@@ -323,6 +341,9 @@ impl Session {
                 }
                 if let Some(s) = &mut self.strands {
                     apply_strand_settings(ctx, &mut s.renderer, &prepared)?;
+                }
+                for (o, spec) in self.prepared.objects.iter_mut().zip(&scene.hair) {
+                    o.material = crate::scene_setup::hair_material(&spec.material)?;
                 }
                 self.prepared.lights = prepared.lights;
                 self.prepared.material = prepared.material;
@@ -417,7 +438,8 @@ impl Session {
                 })?;
                 let db = loader(&settings).map_err(RenderError::Database)?;
                 let start = Instant::now();
-                let volume = load_clusters(&self.scene, &settings, self.prepared.hair.as_ref())?;
+                let volume =
+                    load_clusters(&self.scene, &settings, self.prepared.hair().as_deref())?;
                 let clusters_ms = start.elapsed().as_secs_f64() * 1e3;
                 let database = SatfDatabase::new(ctx, &db)?;
                 let geometry = SatfGeometry::new(ctx, &volume, &database, &settings.settings)?;
@@ -431,7 +453,10 @@ impl Session {
                     clusters_ms,
                 });
             }
-            TechniqueKind::Strands | TechniqueKind::Volume | TechniqueKind::Hybrid => {
+            TechniqueKind::Strands
+            | TechniqueKind::Volume
+            | TechniqueKind::Hybrid
+            | TechniqueKind::Auto => {
                 if self.strands.is_none() {
                     let mut renderer =
                         Renderer::new(ctx, self.formats, self.prepared.strands.clone())?;
@@ -439,15 +464,14 @@ impl Session {
                     renderer.set_stats_readback(self.readback);
                     let hair = self
                         .prepared
-                        .hair
-                        .as_ref()
-                        .map(|h| renderer.upload_hair(ctx, h))
-                        .transpose()?;
+                        .objects
+                        .iter()
+                        .map(|o| renderer.upload_hair(ctx, &o.asset))
+                        .collect::<Result<_, _>>()?;
                     self.strands = Some(StrandPath { renderer, hair });
                 }
                 if let Some(s) = &mut self.strands {
-                    s.renderer
-                        .set_technique(self.technique.name().parse::<Technique>()?);
+                    s.renderer.set_technique(strand_technique(self.technique)?);
                 }
             }
             _ => {}
@@ -491,10 +515,27 @@ impl Session {
             )));
         }
         self.prepare(ctx)?;
-        match self.strands.as_mut().and_then(|s| s.hair.as_mut()) {
-            Some(hair) => hair.update_positions(ctx, asset),
-            None => Err(invalid("the scene has no hair to move")),
+        let Some(s) = self.strands.as_mut().filter(|s| !s.hair.is_empty()) else {
+            return Err(invalid("the scene has no hair to move"));
+        };
+        if let [only] = s.hair.as_mut_slice() {
+            return only.update_positions(ctx, asset);
         }
+        // Several heads of hair: each takes its entry's strands of the merged asset.
+        let counts: Vec<usize> = s.hair.iter().map(|g| g.strand_count() as usize).collect();
+        if counts.iter().sum::<usize>() != asset.strand_count() {
+            return Err(invalid(format!(
+                "update_hair_positions: the asset has {} strands, the scene's hair {}",
+                asset.strand_count(),
+                counts.iter().sum::<usize>()
+            )));
+        }
+        let mut first = 0;
+        for (geometry, n) in s.hair.iter_mut().zip(counts) {
+            geometry.update_positions(ctx, &asset.strand_span(first..first + n)?)?;
+            first += n;
+        }
+        Ok(())
     }
 
     /// Turn `image`, the last strand frame read back, into that frame as exact sorted
@@ -607,6 +648,21 @@ impl Session {
             }
             _ => {
                 let s = self.strands.as_mut().ok_or_else(|| invalid("no strands"))?;
+                let objects: Vec<HairObject<'_>> = if visible {
+                    s.hair
+                        .iter()
+                        .zip(&self.prepared.objects)
+                        .map(|(hair, o)| {
+                            Ok(HairObject {
+                                hair,
+                                material: o.material,
+                                technique: strand_technique(o.technique)?,
+                            })
+                        })
+                        .collect::<Result<_, RenderError>>()?
+                } else {
+                    Vec::new()
+                };
                 let stats = s.renderer.render(
                     ctx,
                     targets,
@@ -615,16 +671,24 @@ impl Session {
                         lights,
                         ambient,
                         material: self.prepared.material,
-                        hair: s.hair.as_ref().filter(|_| visible),
+                        hair: None,
                         head,
                         clear,
+                        objects: &objects,
                     },
                 )?;
                 // What this frame's technique uses: the raymarcher alone needs no OIT and no
                 // shadow maps (the renderer keeps those of techniques drawn before).
-                let raster = self.technique != TechniqueKind::Volume;
+                let raster = if stats.objects.is_empty() {
+                    self.technique != TechniqueKind::Volume
+                } else {
+                    stats
+                        .objects
+                        .iter()
+                        .any(|o| o.technique != Technique::Volume)
+                };
                 let memory = Memory {
-                    geometry: s.hair.as_ref().map_or(0, StrandGeometry::bytes) + head_bytes,
+                    geometry: s.hair.iter().map(StrandGeometry::bytes).sum::<u64>() + head_bytes,
                     oit: stats.oit.map_or(0, |(_, bytes)| bytes),
                     volumes: stats.volume.map_or(0, |v| v.bytes),
                     shadow_maps: if raster { s.renderer.shadow_bytes() } else { 0 },
@@ -643,6 +707,11 @@ impl Session {
             detail,
         })
     }
+}
+
+/// The strand renderer's technique of a scene technique (strands, volume, hybrid or auto).
+fn strand_technique(kind: TechniqueKind) -> Result<Technique, RenderError> {
+    kind.name().parse()
 }
 
 /// Whether a dotted key only changes settings, lights or materials (no reload).

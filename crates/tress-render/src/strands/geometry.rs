@@ -183,7 +183,6 @@ impl StrandGeometry {
         Ok(())
     }
 
-    /// Number of vertices.
     /// Bytes of GPU buffers (vertices and segments).
     pub fn bytes(&self) -> u64 {
         self.bytes

@@ -149,13 +149,24 @@ pub struct OitStats {
 
 /// What the OIT passes of a frame read and write.
 pub(crate) struct OitInputs<'a> {
+    /// The frame's view group (camera and the settings every part shares), read by the
+    /// resolves.
     pub(crate) view: &'a wgpu::BindGroup,
-    pub(crate) lighting: &'a wgpu::BindGroup,
-    pub(crate) geometry: &'a StrandGeometry,
+    /// The heads of hair drawn into this OIT, each with its own groups: one frame composites
+    /// them all, sorted together per pixel.
+    pub(crate) parts: &'a [OitPart<'a>],
     /// The head's depth: read-only attachment and texture.
     pub(crate) depth: &'a wgpu::TextureView,
     /// Where the resolve composites (the target, or the hybrid's strand layer).
     pub(crate) color: &'a wgpu::TextureView,
+}
+
+/// One head of hair drawn into the OIT: its view group (camera, its settings), its lighting
+/// group (its material and volume) and its strands.
+pub(crate) struct OitPart<'a> {
+    pub(crate) view: &'a wgpu::BindGroup,
+    pub(crate) lighting: &'a wgpu::BindGroup,
+    pub(crate) geometry: &'a StrandGeometry,
 }
 
 /// Both OITs' pipelines, their buffers and the auto choice's state.
@@ -319,9 +330,7 @@ impl StrandOit {
             OitKind::Ppll => {
                 let Some(pool) = &self.pool else { return };
                 let build = PpllBuildInputs {
-                    view: inputs.view,
-                    lighting: inputs.lighting,
-                    geometry: inputs.geometry,
+                    parts: inputs.parts,
                     pool,
                     depth: inputs.depth,
                 };

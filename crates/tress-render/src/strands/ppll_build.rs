@@ -2,8 +2,9 @@
 
 use crate::bind::{Layouts, bind_group, bind_group_layout, depth_texture};
 use crate::gpu::pipeline::{RasterPipeline, depth_test, pipeline_layout};
+use crate::strands::PpllPool;
+use crate::strands::oit::OitPart;
 use crate::strands::ppll::{NODE_CHUNKS, pool_layout_entries};
-use crate::strands::{PpllPool, StrandGeometry};
 use crate::{GpuContext, RenderError, shaders};
 
 /// Binding of the head's depth in `ppll_build.wgsl` (after the pool's).
@@ -18,9 +19,8 @@ pub struct PpllBuild {
 
 /// What the build pass reads and writes in a frame.
 pub(crate) struct PpllBuildInputs<'a> {
-    pub(crate) view: &'a wgpu::BindGroup,
-    pub(crate) lighting: &'a wgpu::BindGroup,
-    pub(crate) geometry: &'a StrandGeometry,
+    /// The heads of hair, each drawn with its own groups into the one pool.
+    pub(crate) parts: &'a [OitPart<'a>],
     pub(crate) pool: &'a PpllPool,
     /// The head's depth: read-only attachment (early rejection) and texture (exact test).
     pub(crate) depth: &'a wgpu::TextureView,
@@ -53,7 +53,7 @@ impl PpllBuild {
         })
     }
 
-    /// Record the pass: clear the lists, then draw every segment's quad.
+    /// Record the pass: clear the lists, then draw every part's segments' quads.
     pub(crate) fn encode(
         &self,
         ctx: &GpuContext,
@@ -78,10 +78,12 @@ impl PpllBuild {
             multiview_mask: None,
         });
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, inputs.view, &[]);
-        pass.set_bind_group(1, inputs.lighting, &[]);
-        pass.set_bind_group(2, &inputs.geometry.bind_group, &[]);
         pass.set_bind_group(3, &group, &[]);
-        pass.draw(0..inputs.geometry.segment_count() * 6, 0..1);
+        for part in inputs.parts {
+            pass.set_bind_group(0, part.view, &[]);
+            pass.set_bind_group(1, part.lighting, &[]);
+            pass.set_bind_group(2, &part.geometry.bind_group, &[]);
+            pass.draw(0..part.geometry.segment_count() * 6, 0..1);
+        }
     }
 }

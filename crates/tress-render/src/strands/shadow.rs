@@ -24,7 +24,8 @@ pub struct ShadowMap {
 /// What the shadow maps are drawn from.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ShadowCasters<'a> {
-    pub(crate) hair: Option<&'a StrandGeometry>,
+    /// Every head of hair the rasterizer draws this frame.
+    pub(crate) hair: &'a [&'a StrandGeometry],
     pub(crate) head: Option<&'a HeadGeometry>,
     /// Strand width in shadow-map texels (`shadow_width_px`).
     pub(crate) width_px: f32,
@@ -163,7 +164,7 @@ impl ShadowMap {
                 pass.set_pipeline(&self.head_pipeline);
                 head.draw(&mut pass);
             }
-            if let Some(hair) = hair.filter(|h| h.segment_count() > 0) {
+            for hair in hair.iter().filter(|h| h.segment_count() > 0) {
                 pass.set_bind_group(2, &hair.bind_group, &[]);
                 if width_px <= 1.0 {
                     pass.set_pipeline(&self.line_pipeline);

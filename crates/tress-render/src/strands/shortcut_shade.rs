@@ -114,10 +114,12 @@ impl ShortcutShade {
             multiview_mask: None,
         });
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, inputs.view, &[]);
-        pass.set_bind_group(1, inputs.lighting, &[]);
-        pass.set_bind_group(2, &inputs.geometry.bind_group, &[]);
         pass.set_bind_group(3, group, &[]);
-        pass.draw(0..inputs.geometry.segment_count() * 6, 0..1);
+        for part in inputs.parts {
+            pass.set_bind_group(0, part.view, &[]);
+            pass.set_bind_group(1, part.lighting, &[]);
+            pass.set_bind_group(2, &part.geometry.bind_group, &[]);
+            pass.draw(0..part.geometry.segment_count() * 6, 0..1);
+        }
     }
 }

@@ -246,6 +246,11 @@ pub struct VolumeSettings {
     pub ao_samples: u32,
     /// Multiplier of the occluding strand count (the paper's tweak towards a ray tracer).
     pub ao_intensity: f32,
+    /// GPU memory the volumes of one frame may take, MiB: the shared voxel counters and every
+    /// head of hair's own volume (texture and occupancy, about 4 bytes a voxel). A head of hair
+    /// whose volume would not fit is drawn as strands instead, with a warning (default 2048:
+    /// the counters and 28 volumes at 256³).
+    pub budget_mib: u32,
 }
 
 impl Default for VolumeSettings {
@@ -270,6 +275,7 @@ impl Default for VolumeSettings {
             ao_radius: 1.0,
             ao_samples: 16,
             ao_intensity: 1.0,
+            budget_mib: 2048,
         }
     }
 }
@@ -324,6 +330,9 @@ impl VolumeSettings {
         }
         if !(self.ao_intensity >= 0.0 && self.ao_intensity.is_finite()) {
             return bad("ao_intensity", "must be finite and non-negative");
+        }
+        if self.budget_mib == 0 {
+            return bad("budget_mib", "must be positive");
         }
         Ok(())
     }

@@ -114,6 +114,10 @@ fn block_occupied(x: vec3<f32>) -> bool {
 @fragment
 fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     let px = vec2<u32>(position.xy);
+    // A dithered hybrid's strand pixel: its strands draw there instead.
+    if params.lod_dither != 0u && !(params.lod_factor > dither_threshold(px)) {
+        discard;
+    }
     let ndc = vec2<f32>(
         position.x / camera.viewport.x * 2.0 - 1.0,
         1.0 - position.y / camera.viewport.y * 2.0,

@@ -14,17 +14,25 @@ use crate::volume::{
 use crate::{GpuContext, RenderError};
 use tress_shading::voxelize::decode_texel;
 
-/// The per-resolution resources.
+/// The voxelization's scratch: the per-voxel counters (a count and two tangent-sum words, 12
+/// bytes a voxel). One set serves every object's voxelization in turn, so a frame of several
+/// volume characters holds it once.
+#[derive(Debug)]
+struct Scratch {
+    counts: wgpu::Buffer,
+    tangent_xy: wgpu::Buffer,
+    tangent_z: wgpu::Buffer,
+}
+
+/// One object's volume: what stays after its voxelization (the `rgba8unorm` texture, 4 bytes a
+/// voxel, and the occupancy blocks), its fitted grid, and the bind groups of its three passes
+/// over its own settings uniform and the shared [`Scratch`].
 #[derive(Debug)]
 struct Grid {
-    res: u32,
     keys: wgpu::Buffer,
     grid: wgpu::Buffer,
     grid_uniform: wgpu::Buffer,
     resolve_args: wgpu::Buffer,
-    counts: wgpu::Buffer,
-    tangent_xy: wgpu::Buffer,
-    tangent_z: wgpu::Buffer,
     stats: wgpu::Buffer,
     occupancy: wgpu::Buffer,
     texture: wgpu::Texture,
@@ -32,6 +40,8 @@ struct Grid {
     bounds_group: wgpu::BindGroup,
     voxelize_group: wgpu::BindGroup,
     resolve_group: wgpu::BindGroup,
+    /// The settings uniform its passes read.
+    params: wgpu::Buffer,
 }
 
 /// Everything the voxelizer holds after a frame, read back (tests and tools; slow).
@@ -55,16 +65,25 @@ pub struct VolumeReadback {
     pub stats: VoxelStats,
 }
 
-/// The strand voxelizer (§3.3): owns the counters, the volume texture and the three compute
-/// passes. One voxelization per frame (recorded into the renderer's frame, or
-/// [`Voxelizer::voxelize`] on its own) rebuilds the volume from the geometry as it is.
+/// The strand voxelizer (§3.3): owns the counters, the volume textures and the three compute
+/// passes. One voxelization (recorded into the renderer's frame, or [`Voxelizer::voxelize`] on
+/// its own) rebuilds a volume from the geometry as it is.
+///
+/// A frame of several heads of hair keeps one volume per object that needs one (its texture and
+/// occupancy, about 4 bytes a voxel) and voxelizes them one after another through one shared
+/// set of counters ([`Voxelizer::counter_bytes`], 12 bytes a voxel). The standalone API
+/// (`voxelize`, `view`, `read_back`) works on object 0.
 #[derive(Debug)]
 pub struct Voxelizer {
     bounds: VolumeBounds,
     voxelize: Voxelize,
     resolve: VolumeResolve,
-    params: wgpu::Buffer,
-    grid: Grid,
+    res: u32,
+    scratch: Scratch,
+    /// Object `i`'s volume, once it has needed one.
+    grids: Vec<Option<Grid>>,
+    /// The settings uniform of object 0 (the standalone API's).
+    params0: wgpu::Buffer,
 }
 
 /// Bind group entries 0, 1, ... for whole buffers.
@@ -104,27 +123,30 @@ impl Voxelizer {
                 contents: bytemuck::bytes_of(&VolumeParams::default()),
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             });
-        Self::with_params(ctx, &Layouts::new(&ctx.device), resolution, &params)
+        let mut voxelizer =
+            Self::with_params(ctx, &Layouts::new(&ctx.device), resolution, &params)?;
+        voxelizer.ensure_grid(ctx, 0, &params)?;
+        Ok(voxelizer)
     }
 
-    /// A voxelizer reading its settings from `params` (a [`VolumeParams`] uniform the caller
-    /// writes each frame).
+    /// A voxelizer with no volume yet, whose object 0 reads its settings from `params` (a
+    /// [`VolumeParams`] uniform the caller writes each frame); objects get theirs with
+    /// [`Voxelizer::ensure_grid`].
     pub(crate) fn with_params(
         ctx: &GpuContext,
         layouts: &Layouts,
         resolution: u32,
         params: &wgpu::Buffer,
     ) -> Result<Self, RenderError> {
-        let bounds = VolumeBounds::new(ctx, layouts)?;
-        let voxelize = Voxelize::new(ctx, layouts)?;
-        let resolve = VolumeResolve::new(ctx)?;
-        let grid = Self::allocate(ctx, &bounds, &voxelize, &resolve, params, resolution)?;
+        Self::check(ctx, resolution)?;
         Ok(Voxelizer {
-            bounds,
-            voxelize,
-            resolve,
-            params: params.clone(),
-            grid,
+            bounds: VolumeBounds::new(ctx, layouts)?,
+            voxelize: Voxelize::new(ctx, layouts)?,
+            resolve: VolumeResolve::new(ctx)?,
+            res: resolution,
+            scratch: Self::allocate_scratch(ctx, resolution)?,
+            grids: Vec::new(),
+            params0: params.clone(),
         })
     }
 
@@ -169,17 +191,27 @@ impl Voxelizer {
         Ok(())
     }
 
-    fn allocate(
-        ctx: &GpuContext,
-        bounds: &VolumeBounds,
-        voxelize: &Voxelize,
-        resolve: &VolumeResolve,
-        params: &wgpu::Buffer,
-        res: u32,
-    ) -> Result<Grid, RenderError> {
-        Self::check(ctx, res)?;
+    fn allocate_scratch(ctx: &GpuContext, res: u32) -> Result<Scratch, RenderError> {
         let counter_bytes = u64::from(res).pow(3) * 4;
+        ctx.scoped("allocating the voxel counters", || {
+            use wgpu::BufferUsages as U;
+            let storage = U::STORAGE | U::COPY_DST | U::COPY_SRC;
+            Scratch {
+                counts: buffer(ctx, "volume/voxelize/counts", counter_bytes, storage),
+                tangent_xy: buffer(ctx, "volume/voxelize/tangent-xy", counter_bytes, storage),
+                tangent_z: buffer(ctx, "volume/voxelize/tangent-z", counter_bytes, storage),
+            }
+        })
+    }
+
+    fn allocate_grid(&self, ctx: &GpuContext, params: &wgpu::Buffer) -> Result<Grid, RenderError> {
+        let res = self.res;
         let blocks = u64::from(res.div_ceil(OCCUPANCY_BLOCK)).pow(3) * 4;
+        let Scratch {
+            counts,
+            tangent_xy,
+            tangent_z,
+        } = &self.scratch;
         ctx.scoped("allocating the volume", || {
             use wgpu::BufferUsages as U;
             let storage = U::STORAGE | U::COPY_DST | U::COPY_SRC;
@@ -197,9 +229,6 @@ impl Voxelizer {
                 std::mem::size_of::<ResolveArgs>() as u64,
                 storage | U::INDIRECT,
             );
-            let counts = buffer(ctx, "volume/voxelize/counts", counter_bytes, storage);
-            let tangent_xy = buffer(ctx, "volume/voxelize/tangent-xy", counter_bytes, storage);
-            let tangent_z = buffer(ctx, "volume/voxelize/tangent-z", counter_bytes, storage);
             let stats = buffer(ctx, "volume/voxelize/stats", 16, storage);
             let occupancy = buffer(ctx, "volume/resolve/occupancy", blocks, storage);
             let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
@@ -232,15 +261,15 @@ impl Voxelizer {
                 };
             let bounds_group = group(
                 "volume/volume_bounds/bind-group",
-                &bounds.layout,
+                &self.bounds.layout,
                 &entries(&[params, &keys, &grid, &resolve_args]),
             );
             let voxelize_group = group(
                 "volume/voxelize/bind-group",
-                &voxelize.layout,
-                &entries(&[params, &grid, &counts, &tangent_xy, &tangent_z, &stats]),
+                &self.voxelize.layout,
+                &entries(&[params, &grid, counts, tangent_xy, tangent_z, &stats]),
             );
-            let mut e = entries(&[params, &grid, &counts, &tangent_xy, &tangent_z]);
+            let mut e = entries(&[params, &grid, counts, tangent_xy, tangent_z]);
             e.push(wgpu::BindGroupEntry {
                 binding: 5,
                 resource: wgpu::BindingResource::TextureView(&view),
@@ -257,16 +286,12 @@ impl Voxelizer {
                 binding: 8,
                 resource: stats.as_entire_binding(),
             });
-            let resolve_group = group("volume/volume_resolve/bind-group", &resolve.layout, &e);
+            let resolve_group = group("volume/volume_resolve/bind-group", &self.resolve.layout, &e);
             Grid {
-                res,
                 keys,
                 grid,
                 grid_uniform,
                 resolve_args,
-                counts,
-                tangent_xy,
-                tangent_z,
                 stats,
                 occupancy,
                 texture,
@@ -274,72 +299,147 @@ impl Voxelizer {
                 bounds_group,
                 voxelize_group,
                 resolve_group,
+                params: params.clone(),
             }
         })
     }
 
-    /// Reallocate for another resolution (no-op when it is the same).
+    /// Give object `object` a volume reading its settings from `params`, if it has none; true
+    /// when one was allocated (the caller rebuilds the bind groups that show it).
+    pub(crate) fn ensure_grid(
+        &mut self,
+        ctx: &GpuContext,
+        object: usize,
+        params: &wgpu::Buffer,
+    ) -> Result<bool, RenderError> {
+        if self.grids.get(object).is_some_and(Option::is_some) {
+            return Ok(false);
+        }
+        let grid = self.allocate_grid(ctx, params)?;
+        if self.grids.len() <= object {
+            self.grids.resize_with(object + 1, || None);
+        }
+        self.grids[object] = Some(grid);
+        Ok(true)
+    }
+
+    /// Free object `object`'s volume (it no longer needs one); true when it had one.
+    pub(crate) fn release_grid(&mut self, object: usize) -> bool {
+        self.grids.get_mut(object).and_then(Option::take).is_some()
+    }
+
+    /// Whether object `object` has a volume.
+    pub(crate) fn has_grid(&self, object: usize) -> bool {
+        self.grid(object).is_some()
+    }
+
+    fn grid(&self, object: usize) -> Option<&Grid> {
+        self.grids.get(object).and_then(Option::as_ref)
+    }
+
+    /// Object 0's volume, for the standalone API.
+    fn grid0(&self) -> Result<&Grid, RenderError> {
+        self.grid(0)
+            .ok_or_else(|| RenderError::Invalid("the voxelizer has not voxelized anything".into()))
+    }
+
+    /// Reallocate for another resolution (no-op when it is the same): the counters and every
+    /// object's volume.
     pub fn set_resolution(&mut self, ctx: &GpuContext, resolution: u32) -> Result<(), RenderError> {
-        if resolution != self.grid.res {
-            self.grid = Self::allocate(
-                ctx,
-                &self.bounds,
-                &self.voxelize,
-                &self.resolve,
-                &self.params,
-                resolution,
-            )?;
+        if resolution != self.res {
+            Self::check(ctx, resolution)?;
+            self.res = resolution;
+            self.scratch = Self::allocate_scratch(ctx, resolution)?;
+            let params: Vec<Option<wgpu::Buffer>> = self
+                .grids
+                .iter()
+                .map(|g| g.as_ref().map(|g| g.params.clone()))
+                .collect();
+            self.grids.clear();
+            for (object, p) in params.iter().enumerate() {
+                if let Some(p) = p {
+                    self.ensure_grid(ctx, object, p)?;
+                }
+            }
         }
         Ok(())
     }
 
     /// Voxels per axis.
     pub fn resolution(&self) -> u32 {
-        self.grid.res
+        self.res
     }
 
-    /// Bytes of counters, texture and occupancy.
+    /// Bytes of the counters, and of every object's texture and occupancy.
     pub fn bytes(&self) -> u64 {
+        self.counter_bytes() + self.grid_bytes() * self.grid_count() as u64
+    }
+
+    /// Bytes of the shared voxel counters (12 a voxel).
+    pub fn counter_bytes(&self) -> u64 {
+        self.settings().counter_bytes()
+    }
+
+    /// Bytes one object's volume keeps between frames: its texture (4 a voxel) and occupancy
+    /// blocks.
+    pub fn grid_bytes(&self) -> u64 {
+        self.settings().resident_bytes()
+    }
+
+    /// Objects that have a volume.
+    pub fn grid_count(&self) -> usize {
+        self.grids.iter().flatten().count()
+    }
+
+    fn settings(&self) -> VolumeSettings {
         VolumeSettings {
-            resolution: self.grid.res,
+            resolution: self.res,
             ..Default::default()
         }
-        .bytes()
     }
 
-    /// The volume texture's view (rgb mean tangent, a density).
-    pub fn view(&self) -> &wgpu::TextureView {
-        &self.grid.view
+    /// Object 0's volume texture's view (rgb mean tangent, a density), once it has one.
+    pub fn view(&self) -> Option<&wgpu::TextureView> {
+        self.object_view(0)
     }
 
-    /// The uniform copy of the grid fitted in the last frame.
-    pub(crate) fn grid_uniform(&self) -> &wgpu::Buffer {
-        &self.grid.grid_uniform
+    /// Object `object`'s volume texture (`None` when it has none).
+    pub(crate) fn object_view(&self, object: usize) -> Option<&wgpu::TextureView> {
+        self.grid(object).map(|g| &g.view)
     }
 
-    /// The occupancy blocks (read by the raymarcher's empty-space skipping).
-    pub(crate) fn occupancy(&self) -> &wgpu::Buffer {
-        &self.grid.occupancy
+    /// The uniform copy of the grid object `object`'s last voxelization fitted.
+    pub(crate) fn grid_uniform(&self, object: usize) -> Option<&wgpu::Buffer> {
+        self.grid(object).map(|g| &g.grid_uniform)
     }
 
-    /// The deposit/drop counters (copied into the frame's statistics).
-    pub(crate) fn stats_buffer(&self) -> &wgpu::Buffer {
-        &self.grid.stats
+    /// Object `object`'s occupancy blocks (read by the raymarcher's empty-space skipping).
+    pub(crate) fn occupancy(&self, object: usize) -> Option<&wgpu::Buffer> {
+        self.grid(object).map(|g| &g.occupancy)
     }
 
-    /// Record a whole voxelization of `geometry` (clear, bounds, voxelize, resolve, grid copy).
-    /// The [`VolumeParams`] uniform must describe this geometry and resolution.
+    /// Object `object`'s deposit/drop counters (copied into the frame's statistics).
+    pub(crate) fn stats_buffer(&self, object: usize) -> Option<&wgpu::Buffer> {
+        self.grid(object).map(|g| &g.stats)
+    }
+
+    /// Record a whole voxelization of `geometry` into object `object`'s volume (clear the
+    /// counters, bounds, voxelize, resolve, grid copy); nothing when it has none. Its
+    /// [`VolumeParams`] uniform must describe this geometry and resolution. Voxelizations
+    /// recorded one after another share the counters.
     pub(crate) fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
+        object: usize,
         geometry: &StrandGeometry,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
-        let g = &self.grid;
+        let Some(g) = self.grid(object) else { return };
+        let s = &self.scratch;
         for b in [
-            &g.counts,
-            &g.tangent_xy,
-            &g.tangent_z,
+            &s.counts,
+            &s.tangent_xy,
+            &s.tangent_z,
             &g.stats,
             &g.occupancy,
         ] {
@@ -415,20 +515,23 @@ impl Voxelizer {
     ) -> Result<VolumeStats, RenderError> {
         settings.validate()?;
         self.set_resolution(ctx, settings.resolution)?;
+        let params0 = self.params0.clone();
+        self.ensure_grid(ctx, 0, &params0)?;
         let mut params = Self::params(settings, geometry);
         params.fade_ref = fade_ref;
         ctx.queue
-            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+            .write_buffer(&self.params0, 0, bytemuck::bytes_of(&params));
         ctx.scoped("voxelizing", || {
             let mut encoder = ctx
                 .device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("volume/voxelizer/encoder"),
                 });
-            self.encode(&mut encoder, geometry, None);
+            self.encode(&mut encoder, 0, geometry, None);
             ctx.queue.submit([encoder.finish()]);
         })?;
-        let s: VoxelStats = bytemuck::pod_read_unaligned(&self.read(ctx, &self.grid.stats, 16)?);
+        let s: VoxelStats =
+            bytemuck::pod_read_unaligned(&self.read(ctx, &self.grid0()?.stats, 16)?);
         Ok(VolumeStats {
             deposits: s.deposits,
             dropped: s.dropped,
@@ -461,26 +564,27 @@ impl Voxelizer {
         read_buffer(ctx, &staging, 0..size)
     }
 
-    /// Read every buffer and the texture back (slow: for tests and tools).
+    /// Read object 0's volume and the counters back (slow: for tests and tools).
     pub fn read_back(&self, ctx: &GpuContext) -> Result<VolumeReadback, RenderError> {
-        let g = &self.grid;
-        let n = u64::from(g.res).pow(3);
+        let g = self.grid0()?;
+        let res = self.res;
+        let n = u64::from(res).pow(3);
         let words = |b: &wgpu::Buffer| -> Result<Vec<u32>, RenderError> {
             Ok(bytemuck::cast_slice(&self.read(ctx, b, n * 4)?).to_vec())
         };
-        let counts = words(&g.counts)?;
-        let xy = words(&g.tangent_xy)?;
-        let z = words(&g.tangent_z)?;
-        let blocks = u64::from(g.res.div_ceil(OCCUPANCY_BLOCK)).pow(3);
+        let counts = words(&self.scratch.counts)?;
+        let xy = words(&self.scratch.tangent_xy)?;
+        let z = words(&self.scratch.tangent_z)?;
+        let blocks = u64::from(res.div_ceil(OCCUPANCY_BLOCK)).pow(3);
         let occupancy = bytemuck::cast_slice(&self.read(ctx, &g.occupancy, blocks * 4)?).to_vec();
         let grid: VolumeGrid = bytemuck::pod_read_unaligned(&self.read(ctx, &g.grid, GRID_BYTES)?);
         let keys = bytemuck::pod_read_unaligned(&self.read(ctx, &g.keys, 24)?);
         let stats = bytemuck::pod_read_unaligned(&self.read(ctx, &g.stats, 16)?);
         // The texture, row by row with the copy alignment.
-        let row = g.res * 4;
+        let row = res * 4;
         let padded =
             row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let size = u64::from(padded) * u64::from(g.res) * u64::from(g.res);
+        let size = u64::from(padded) * u64::from(res) * u64::from(res);
         let staging = ctx.scoped("volume texture readback", || {
             let staging = buffer(
                 ctx,
@@ -500,7 +604,7 @@ impl Voxelizer {
                     layout: wgpu::TexelCopyBufferLayout {
                         offset: 0,
                         bytes_per_row: Some(padded),
-                        rows_per_image: Some(g.res),
+                        rows_per_image: Some(res),
                     },
                 },
                 g.texture.size(),
@@ -511,7 +615,7 @@ impl Voxelizer {
         let bytes = read_buffer(ctx, &staging, 0..size)?;
         let mut texels = Vec::with_capacity(n as usize);
         let mut texel_bytes = Vec::with_capacity(n as usize);
-        for r in 0..(g.res * g.res) as usize {
+        for r in 0..(res * res) as usize {
             let line = &bytes[r * padded as usize..r * padded as usize + row as usize];
             for t in line.chunks_exact(4) {
                 let b = [t[0], t[1], t[2], t[3]];

@@ -152,6 +152,7 @@ pub fn render_sphere_golden(
         hair: Some(&hair),
         head: Some(&head),
         clear: Some(BACKGROUND),
+        objects: &[],
     };
     let stats = renderer.render(ctx, &t.targets(), &inputs).expect("frame");
     (stats, srgb_image(ctx, &t.color))

@@ -135,9 +135,15 @@ impl SceneGeometry {
         let head = match scene.head_source() {
             HeadSource::None => None,
             HeadSource::Obj(path) => Some(TriMesh::read_obj(&path)?),
-            HeadSource::Generated(g) => {
-                g.head.validate()?;
-                Some(g.mesh(HEAD_SUBDIVISIONS))
+            HeadSource::Generated(_) => {
+                // One head per generated character, as on the GPU.
+                let heads = scene.generated_heads();
+                let mut meshes = Vec::with_capacity(heads.len());
+                for g in &heads {
+                    g.head.validate()?;
+                    meshes.push(g.mesh(HEAD_SUBDIVISIONS));
+                }
+                TriMesh::merge(&meshes)
             }
         };
         Ok(SceneGeometry { hair, head })

@@ -382,13 +382,8 @@ fn world_transform(
 }
 
 fn merge_meshes(meshes: Vec<TriMesh>) -> Option<TriMesh> {
-    let mut iter = meshes.into_iter().filter(|m| !m.indices.is_empty());
-    let mut out = iter.next()?;
-    for m in iter {
-        let base = out.positions.len() as u32;
-        out.positions.extend(m.positions);
-        out.normals.extend(m.normals);
-        out.indices.extend(m.indices.iter().map(|i| i + base));
+    match meshes.len() {
+        1 => meshes.into_iter().find(|m| !m.indices.is_empty()),
+        _ => TriMesh::merge(&meshes),
     }
-    Some(out)
 }

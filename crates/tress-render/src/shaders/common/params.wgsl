@@ -28,6 +28,13 @@ struct StrandParams {
     shortcut_k: u32,
     // Height of the color target (ShortCut's buffers hold one layer of width x height per k).
     target_height: u32,
+    // A hybrid head of hair in a frame of several: its blend factor, and 1 when its strands and
+    // its volume share the frame's pixels by the 4x4 dither (strands where the factor is at most
+    // `dither_threshold`, volume elsewhere); 0 for everything else.
+    lod_factor: f32,
+    lod_dither: u32,
+    _pad0: u32,
+    _pad1: u32,
 }
 
 const THICKNESS_FADE_OFF: u32 = 0u;

@@ -3,13 +3,15 @@
 // fragment's opacity with the §3.2 line coverage (Jansson 2019 §3.1-3.2).
 
 #include "common/strand.wgsl"
+#include "common/volume.wgsl"
 
 // Fragments fainter than this are not stored (nor counted) by any OIT.
 const MIN_FRAGMENT_ALPHA: f32 = 1.0 / 1024.0;
 
 // The opacity a strand fragment contributes, in (MIN_FRAGMENT_ALPHA, 1], or 0 when it lies
 // behind the head (the test is done here because the OIT passes' stores are side effects that
-// the fixed-function late depth test could not prevent) or is too faint to store.
+// the fixed-function late depth test could not prevent), in a pixel a dithered hybrid gives to
+// its volume, or is too faint to store.
 fn strand_fragment_alpha(
     in: StrandVarying,
     camera: Camera,
@@ -18,6 +20,10 @@ fn strand_fragment_alpha(
 ) -> f32 {
     let px = vec2<u32>(in.position.xy);
     if in.position.z >= textureLoad(head_depth, px, 0) {
+        return 0.0;
+    }
+    // A dithered hybrid's volume pixel: its raymarch draws there instead.
+    if params.lod_dither != 0u && params.lod_factor > dither_threshold(px) {
         return 0.0;
     }
     var alpha = in.color.a * params.alpha;
