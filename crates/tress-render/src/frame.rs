@@ -310,12 +310,20 @@ impl Renderer {
         let oit = oit_kind.map(|kind| (kind, self.oit.bytes(kind)));
 
         // ---- uniforms: the frame's camera and lights, then each head of hair's own
-        let bounds = hair
-            .iter()
-            .filter_map(|(h, ..)| h.map(|h| h.bounds))
-            .fold(inputs.head.map(|h| h.bounds), |acc, b| {
-                frame_sphere(acc, Some(b))
-            });
+        // The shadow maps frame the hair and head of a single head of hair; among several, the
+        // rasterized ones (the others' shadows come from their volumes).
+        let union = |filter: &dyn Fn(&Drawn<'_>) -> bool| {
+            hair.iter()
+                .zip(&drawn)
+                .filter(|(_, d)| filter(d))
+                .filter_map(|((h, ..), _)| h.map(|h| h.bounds))
+                .fold(None, |acc, b| frame_sphere(acc, Some(b)))
+        };
+        let bounds = if several {
+            union(&|d| d.plan.strands).or_else(|| union(&|_| true))
+        } else {
+            frame_sphere(union(&|_| true), inputs.head.map(|h| h.bounds))
+        };
         let (lights, light_cameras) = lights_uniform(
             inputs.ambient,
             inputs.lights,
@@ -338,7 +346,13 @@ impl Renderer {
         );
         q.write_buffer(&self.lights, 0, bytemuck::bytes_of(&lights));
         for (i, (d, &(unfiltered, ..))) in drawn.iter().zip(&hair).enumerate() {
-            self.write_object_uniforms(ctx, i, d, unfiltered, base, &inputs.camera, bounds);
+            // The width of a shadow-map line in the volume's ADSM model: of the frame's maps
+            // where they shade this head of hair, else of maps framing it alone.
+            let own = (several && !d.plan.strands)
+                .then(|| d.hair.map(|h| h.bounds))
+                .flatten();
+            let radius = own.or(bounds).map_or(1.0, |b| b.1);
+            self.write_object_uniforms(ctx, i, d, unfiltered, base, &inputs.camera, radius);
         }
 
         let frame = self.frame;
@@ -526,7 +540,8 @@ impl Renderer {
 
     /// Write object `i`'s strand settings, material and volume uniforms for this frame: `base`
     /// holds the settings every head of hair shares; `unfiltered` is its hair as given (its
-    /// centre even when it has no segments); `bounds` the frame's sphere.
+    /// centre even when it has no segments); `shadow_radius` the radius of the sphere its
+    /// shadow maps frame.
     #[allow(clippy::too_many_arguments)]
     fn write_object_uniforms(
         &mut self,
@@ -536,7 +551,7 @@ impl Renderer {
         unfiltered: Option<&StrandGeometry>,
         base: types::StrandParams,
         camera: &Camera,
-        bounds: Option<(Vec3, f32)>,
+        shadow_radius: f32,
     ) {
         let (plan, hair) = (&d.plan, d.hair);
         let mut params = base;
@@ -580,9 +595,8 @@ impl Renderer {
             volume.shadow_alpha = self.settings.shadow_alpha;
             // A shadow-map line's width: `shadow_width_px` texels of the light's map over the
             // bounding sphere.
-            let radius = bounds.map_or(1.0, |b| b.1);
             volume.occlusion_width =
-                self.settings.shadow_width_px * 2.0 * radius / self.shadow.size() as f32;
+                self.settings.shadow_width_px * 2.0 * shadow_radius / self.shadow.size() as f32;
             volume.occlusion_bias = self.settings.shadow_bias;
         }
         let slot = &mut self.slots[i];

@@ -180,7 +180,7 @@ impl HybridSettings {
     pub fn auto_factor(&self, size_px: f32) -> f32 {
         if size_px >= self.auto_near_px {
             0.0
-        } else if !(size_px > self.auto_far_px) {
+        } else if size_px <= self.auto_far_px || size_px.is_nan() {
             1.0
         } else {
             let t = (size_px - self.auto_far_px) / (self.auto_near_px - self.auto_far_px);
@@ -308,7 +308,18 @@ impl FramePlan {
         let (hybrid, strands, volume) = settings;
         let has_hair = hair.is_some_and(|h| h.segment_count() > 0);
         let bounds = hair.map_or((Vec3::ZERO, 0.0), |h| h.bounds);
-        let lod = object_factor(technique, hybrid, camera, bounds);
+        let mut lod = object_factor(technique, hybrid, camera, bounds);
+        if several {
+            // Dithered in the frame: below the smallest threshold of the 4 × 4 dither no pixel
+            // shows the volume, above the largest none shows the strands, so the other renderer
+            // need not draw at all.
+            let (lo, hi) = (0.5 / 16.0, 15.5 / 16.0);
+            if lod < lo {
+                lod = 0.0;
+            } else if lod > hi {
+                lod = 1.0;
+            }
+        }
         let mut plan = Self::with_factor(lod, has_hair, hybrid, strands, volume);
         plan.dither = several && plan.blend();
         plan.extent = ScreenExtent::of(camera, bounds);

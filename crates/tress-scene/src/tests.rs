@@ -532,3 +532,73 @@ fn a_hair_transform_moves_the_generated_head_with_its_hair() {
         }
     }
 }
+
+#[test]
+fn each_hair_entry_may_name_its_own_technique() {
+    let text = "technique = \"volume\"\n\
+                [[hair]]\ngenerator = { style = \"straight\" }\ntechnique = \"strands\"\n\
+                [[hair]]\ngenerator = { style = \"fur\" }\n\
+                [[hair]]\ngenerator = { style = \"curly\" }\ntechnique = \"auto\"\n";
+    let s = parse(text).unwrap();
+    let kinds: Vec<_> = (0..3).map(|i| s.hair_technique(i).unwrap()).collect();
+    assert_eq!(
+        kinds,
+        [
+            TechniqueKind::Strands,
+            TechniqueKind::Volume,
+            TechniqueKind::Auto
+        ]
+    );
+    // Patches and SATF draw the whole scene, merged: the entries' own techniques do not apply.
+    let mut patches = s.clone();
+    patches.apply_override("technique=patches").unwrap();
+    assert_eq!(patches.hair_technique(0).unwrap(), TechniqueKind::Patches);
+    // Forcing a technique drops the entries' own, and round-trips through TOML.
+    let mut forced = s.clone();
+    forced.force_technique("hybrid").unwrap();
+    assert!(forced.hair.iter().all(|h| h.technique.is_none()));
+    assert!((0..3).all(|i| forced.hair_technique(i) == Ok(TechniqueKind::Hybrid)));
+    assert!(forced.force_technique("raytrace").is_err());
+    assert_eq!(forced.technique, "hybrid", "unchanged by a failed force");
+    let back = parse(&s.to_toml_string().unwrap()).unwrap();
+    assert_eq!(back.hair[0].technique.as_deref(), Some("strands"));
+    // A scene-wide technique or an unknown name is an error naming the entry's key.
+    for (bad, why) in [
+        ("patches", "whole scene"),
+        ("raytrace", "unknown technique"),
+    ] {
+        let e = parse(&format!(
+            "[[hair]]\ngenerator = {{ style = \"fur\" }}\ntechnique = \"{bad}\"\n"
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("hair.0.technique") && e.contains(why), "{e}");
+    }
+}
+
+#[test]
+fn every_generated_character_gets_its_own_head() {
+    let text = "[[hair]]\ngenerator = { style = \"ponytail\" }\n\
+                [[hair]]\ngenerator = { style = \"ponytail\" }\n\
+                transform = { translate = [40, 0, -30] }\n\
+                [[hair]]\ngenerator = { style = \"fur\" }\n\
+                transform = { translate = [-40, 0, -60] }\n\
+                [[hair]]\ngenerator = { style = \"straight\" }\n";
+    let s = parse(text).unwrap();
+    let heads = s.generated_heads();
+    // The fourth entry grows on the first one's head (same style head, same place).
+    assert_eq!(heads.len(), 3, "{heads:?}");
+    let HeadSource::Generated(first) = s.head_source() else {
+        panic!("a generated head")
+    };
+    assert_eq!(heads[0], first);
+    assert_eq!(
+        heads[1].center(),
+        first.center() + Vec3::new(40.0, 0.0, -30.0)
+    );
+    assert_eq!(heads[2].shape, HeadShape::Ellipsoid, "the fur's body");
+    assert_eq!(heads[2].head, head_for(Style::Fur));
+    // An OBJ head or no head: none generated.
+    let obj = parse(&format!("{text}[head]\nobj = \"head.obj\"\n")).unwrap();
+    assert!(obj.generated_heads().is_empty());
+}

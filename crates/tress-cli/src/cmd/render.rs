@@ -178,6 +178,19 @@ pub(crate) fn run(args: Args) -> Result<()> {
     if let Some(v) = &report.volume {
         println!("{v}");
     }
+    if report.objects.len() > 1 {
+        for (i, o) in report.objects.iter().enumerate() {
+            println!(
+                "hair {i}: {} (lod {:.2}, {:.0} px across, {:.1}% of the frame{})",
+                o.technique,
+                o.lod,
+                o.size_px,
+                o.coverage * 100.0,
+                o.fallback
+                    .map_or(String::new(), |f| format!("; over {f}, drawn as strands"))
+            );
+        }
+    }
     Ok(())
 }
 

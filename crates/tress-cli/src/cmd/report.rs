@@ -36,6 +36,54 @@ pub(crate) struct Report {
     /// The `satf` technique's part (added by `render_satf`, which knows the database's file).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) satf: Option<SatfReport>,
+    /// Each head of hair the strand renderer drew (strands, volume, hybrid, auto): one per
+    /// `[[hair]]` entry, in order.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(crate) objects: Vec<ObjectReport>,
+}
+
+/// One head of hair of a frame: what drew it and what it cost.
+#[derive(Serialize)]
+pub(crate) struct ObjectReport {
+    /// What drew it: `strands`, `volume` or `hybrid` (`auto` resolved).
+    pub(crate) technique: &'static str,
+    /// Its level-of-detail blend factor (0 strands only, 1 volume only).
+    pub(crate) lod: f32,
+    /// Its bounding sphere's diameter on screen, pixels (what `auto` decides by).
+    pub(crate) size_px: f32,
+    /// The share of the frame the square around its bounding sphere covers.
+    pub(crate) coverage: f32,
+    /// Strand segments.
+    pub(crate) segments: u32,
+    /// Bytes of its own volume (0 when not voxelized).
+    pub(crate) volume_bytes: u64,
+    /// Why it was drawn otherwise than asked (`volume.budget_mib`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) fallback: Option<&'static str>,
+    /// Its own passes (voxelization, raymarch, blend); the OIT, shadow and head passes are
+    /// the frame's.
+    pub(crate) passes: Vec<Pass>,
+}
+
+impl ObjectReport {
+    /// Every head of hair of a strand renderer's frame.
+    pub(crate) fn all(stats: &FrameStats) -> Vec<ObjectReport> {
+        stats
+            .objects
+            .iter()
+            .enumerate()
+            .map(|(i, o)| ObjectReport {
+                technique: o.technique.name(),
+                lod: o.lod,
+                size_px: o.size_px,
+                coverage: o.coverage,
+                segments: o.segments,
+                volume_bytes: o.volume_bytes,
+                fallback: o.fallback,
+                passes: passes(stats.gpu.as_ref().and_then(|g| g.object_timings.get(i))),
+            })
+            .collect()
+    }
 }
 
 impl Report {
@@ -66,6 +114,7 @@ impl Report {
             patches: None,
             volume: None,
             satf: None,
+            objects: Vec::new(),
         };
         match &frame.detail {
             FrameDetail::Strands(stats) => {
@@ -84,6 +133,7 @@ impl Report {
                 };
                 report.volume = volume_report(stats);
                 report.oit = OitReport::from_stats(stats);
+                report.objects = ObjectReport::all(stats);
             }
             FrameDetail::Patches(stats) => {
                 report.passes = passes(stats.timings.as_ref());

@@ -10,6 +10,7 @@
 
 mod agreement;
 mod chart;
+mod crowd;
 mod measure;
 mod quality;
 mod report;
@@ -48,7 +49,7 @@ pub(crate) struct Args {
     #[arg(long)]
     quick: bool,
     /// Run only these sweeps (repeatable): distance, strands, steps, resolution, k, patches,
-    /// oit.
+    /// oit, characters.
     #[arg(long = "sweep", value_name = "NAME")]
     sweeps: Vec<String>,
     /// Measure image quality against the CPU reference instead of speed (see `--spp`).
@@ -223,8 +224,17 @@ pub(crate) fn run(args: Args) -> Result<()> {
         let mut exact = None;
         // A fresh session per sweep: the sweep's overrides never leak into the next one.
         let mut session = run.session()?;
+        // The scene as framed, which the characters sweep copies.
+        let framed = session.scene().clone();
         for (i, p) in sw.points.iter().enumerate() {
             let point_start = rows.len();
+            if let Some(n) = p.characters {
+                let scene = crowd::crowd(&framed, n)
+                    .ok_or_else(|| anyhow::anyhow!("the characters sweep needs hair"))?;
+                let pb = progress::spinner(format!("loading {n} characters"));
+                session = open_session(&run.ctx, &scene, false, Vec::new(), None)?;
+                pb.finish_and_clear();
+            }
             for series in &sw.series {
                 let t = series.name;
                 let pb = progress::spinner(format!(
@@ -298,6 +308,17 @@ pub(crate) fn run(args: Args) -> Result<()> {
                 .map(|f| f.map(|f| f.image))
                 .collect();
             score_against_reference(&mut rows, &images, exact.as_ref());
+        }
+        if sw.name == "characters" {
+            let series: Vec<&'static str> = sw.series.iter().map(|s| s.name).collect();
+            if let Some(counts) = crowd::budget_counts(&rows, &series) {
+                for (t, n) in counts {
+                    eprintln!(
+                        "characters: {t} fits {} in the time the strands need for 2",
+                        tick(n)
+                    );
+                }
+            }
         }
         report::write(
             &run.dir,

@@ -307,8 +307,43 @@ pub(crate) fn markdown(h: &Header<'_>, sweeps: &[(Sweep, Vec<Row>, Vec<String>)]
                 }
             }
         }
+        if sweep.name == "characters" {
+            characters_summary(&mut md, sweep, rows);
+        }
     }
     md
+}
+
+/// The `characters` sweep's answer: characters each mode fits in the time the strands need
+/// for two, and each mode's memory at the most characters.
+fn characters_summary(md: &mut String, sweep: &Sweep, rows: &[Row]) {
+    let series: Vec<&'static str> = sweep.series.iter().map(|s| s.name).collect();
+    let Some(counts) = super::crowd::budget_counts(rows, &series) else {
+        return;
+    };
+    md.push_str(
+        "
+| mode | characters in the time the strands need for 2 | memory MiB at the most \
+         characters (geometry, oit, volumes, shadow maps) |\n| --- | ---: | --- |\n",
+    );
+    for (t, n) in counts {
+        let most = ok(rows)
+            .filter(|(r, _)| r.technique == t)
+            .max_by(|a, b| a.0.x.total_cmp(&b.0.x));
+        let memory = most.map_or(String::new(), |(r, m)| {
+            let mem = m.memory;
+            format!(
+                "{:.1} at {} ({:.1}, {:.1}, {:.1}, {:.1})",
+                mem.total() as f64 / MIB,
+                tick(r.x),
+                mem.geometry as f64 / MIB,
+                mem.oit as f64 / MIB,
+                mem.volumes as f64 / MIB,
+                mem.shadow_maps as f64 / MIB
+            )
+        });
+        let _ = writeln!(md, "| {t} | {} | {memory} |", tick(n));
+    }
 }
 
 /// Write `text` to `dir/name`.

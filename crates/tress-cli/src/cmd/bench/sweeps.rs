@@ -9,6 +9,7 @@
 //! | `k`          | PPLL k (sorted fragments)       | strands                      | §3.3      |
 //! | `patches`    | 3-pass vs 4-pass                | patches                      | Scheuermann slides |
 //! | `oit`        | k, PPLL vs ShortCut             | strands (two OITs)           | beyond: TressFX 4.1 |
+//! | `characters` | characters 1 → 16, spread in depth | every character as strands, `auto` | §1's claim |
 //!
 //! The `distance` sweep scores every technique's frame (its CSV `flip` column) by mean FLIP
 //! against the strand rasterizer's frame at the same distance, over the pixels either frame's
@@ -19,6 +20,11 @@
 //! frame, so it loses nothing where the device allows) and with ShortCut at each k, and scores
 //! every frame by mean FLIP against exact sorted compositing: the PPLL's k = 16 frame with its
 //! lists read back and every pixel's fragments sorted on the CPU (`Session::sort_exactly`).
+//!
+//! The `characters` sweep draws the scene's first head of hair and copies of it spread in depth
+//! ([`super::crowd`]): every character as strands, and each with `auto` (strands near, volume
+//! far). Its summary says how many characters each mode fits in the time the strands need for
+//! two: the paper's "twice the number of game characters … for the same time budget".
 
 use anyhow::{Result, bail};
 use tress_scene::Scene;
@@ -32,6 +38,8 @@ pub(crate) struct Point {
     pub(crate) sets: Vec<String>,
     /// The camera's distance as a multiple of the scene's.
     pub(crate) distance: f32,
+    /// The scene's hair as this many characters spread in depth (`characters` sweep).
+    pub(crate) characters: Option<u32>,
 }
 
 /// A sweep: what it varies and over which techniques.
@@ -75,7 +83,7 @@ fn techniques(names: &[&'static str]) -> Vec<SeriesSpec> {
 }
 
 /// Every sweep's name, in the order they run.
-pub(crate) const SWEEPS: [&str; 7] = [
+pub(crate) const SWEEPS: [&str; 8] = [
     "distance",
     "strands",
     "steps",
@@ -83,6 +91,7 @@ pub(crate) const SWEEPS: [&str; 7] = [
     "k",
     "patches",
     "oit",
+    "characters",
 ];
 
 /// The `oit` sweep's reference: the PPLL frame (at the paper's k) whose lists are sorted
@@ -94,6 +103,7 @@ fn point(x: f64, sets: Vec<String>) -> Point {
         x,
         sets,
         distance: 1.0,
+        characters: None,
     }
 }
 
@@ -124,6 +134,7 @@ pub(crate) fn sweep(name: &str, quick: bool, scene: &Scene) -> Result<Sweep> {
                             x: f,
                             sets: Vec::new(),
                             distance: f as f32,
+                            characters: None,
                         }
                     })
                     .collect(),
@@ -231,6 +242,25 @@ pub(crate) fn sweep(name: &str, quick: bool, scene: &Scene) -> Result<Sweep> {
                 })
                 .collect(),
         },
+        "characters" => {
+            if scene.hair.is_empty() {
+                bail!("the characters sweep needs hair in the scene");
+            }
+            Sweep {
+                name: "characters",
+                title: "Frame time by characters on screen (the hybrid paper's §1 claim)",
+                x_label: "characters (the scene's hair, spread in depth)",
+                log_x: true,
+                series: techniques(&["strands", "auto"]),
+                points: pick(&[1.0, 2.0, 4.0, 8.0, 16.0], &[1.0, 2.0])
+                    .into_iter()
+                    .map(|n| Point {
+                        characters: Some(n as u32),
+                        ..point(n, Vec::new())
+                    })
+                    .collect(),
+            }
+        }
         other => bail!("unknown sweep `{other}` (available: {})", SWEEPS.join(", ")),
     })
 }

@@ -1,0 +1,108 @@
+//! Several characters in one scene (issue 14): `scenes/crowd.toml` through `tress render`, each
+//! `[[hair]]` entry reported under `objects` with what drew it, and `--technique` drawing every
+//! one with the technique named.
+
+mod common;
+
+use common::{assert_gpu_success, skip_gpu, tmp, tress};
+
+const CROWD: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/crowd.toml");
+
+fn render(name: &str, extra: &[&str]) -> serde_json::Value {
+    let png = tmp(name);
+    let mut args = vec![
+        "render",
+        CROWD,
+        "-o",
+        png.to_str().unwrap(),
+        "--width",
+        "320",
+        "--height",
+        "180",
+        // Few strands: this is about the objects, not the asset.
+        "--set",
+        "hair.0.strand_ratio=0.01",
+        "--set",
+        "hair.4.strand_ratio=0.01",
+        "--set",
+        "volume.resolution=64",
+        "--json",
+    ];
+    args.extend_from_slice(extra);
+    let out = tress(&args);
+    assert_gpu_success(&out);
+    serde_json::from_slice(&out.stdout).expect("exactly one JSON object")
+}
+
+#[test]
+fn the_crowd_reports_each_character_drawn_by_its_size() {
+    if skip_gpu() {
+        return;
+    }
+    // The auto thresholds at this size: the front characters rasterized, the far ones
+    // raymarched.
+    let v = render(
+        "crowd.png",
+        &[
+            "--set",
+            "hybrid.auto_near_px=120",
+            "--set",
+            "hybrid.auto_far_px=60",
+        ],
+    );
+    assert_eq!(v["technique"], "auto");
+    let objects = v["objects"].as_array().expect("objects");
+    assert_eq!(objects.len(), 6, "one per [[hair]] entry");
+    let size = |o: &serde_json::Value| o["size_px"].as_f64().unwrap();
+    let mut segments = 0;
+    for o in objects {
+        let (t, lod, px) = (
+            o["technique"].as_str().unwrap(),
+            o["lod"].as_f64().unwrap(),
+            size(o),
+        );
+        eprintln!("{t} lod {lod:.3} at {px:.0} px, coverage {}", o["coverage"]);
+        match t {
+            "strands" => assert!(px >= 120.0 && lod == 0.0, "{o}"),
+            "volume" => assert!(px <= 60.0 + 1e-3 || lod > 15.5 / 16.0, "{o}"),
+            "hybrid" => assert!(px > 60.0 && px < 120.0, "{o}"),
+            other => panic!("drawn as {other}"),
+        }
+        let voxelized = t != "strands";
+        assert_eq!(o["volume_bytes"].as_u64().unwrap() > 0, voxelized, "{o}");
+        let c = o["coverage"].as_f64().unwrap();
+        assert!(c > 0.0 && c <= 1.0, "{o}");
+        segments += o["segments"].as_u64().unwrap();
+    }
+    assert_eq!(segments, v["segments"].as_u64().unwrap());
+    // The scene is laid out nearest first: sizes fall, and both ends of the range are drawn.
+    assert!(objects.windows(2).all(|w| size(&w[0]) > size(&w[1])));
+    assert_eq!(objects[0]["technique"], "strands");
+    assert_eq!(objects[5]["technique"], "volume");
+    // One volume per voxelized character beside the shared counters (64³: 12 bytes a voxel).
+    let volumes: u64 = objects
+        .iter()
+        .map(|o| o["volume_bytes"].as_u64().unwrap())
+        .sum();
+    assert_eq!(
+        v["volume"]["bytes"].as_u64().unwrap(),
+        64u64.pow(3) * 12 + volumes
+    );
+    assert!(v["oit"]["fragments"].as_u64().unwrap() > 0 && v["oit"]["lost"] == 0);
+}
+
+#[test]
+fn a_technique_on_the_command_line_draws_every_character() {
+    if skip_gpu() {
+        return;
+    }
+    let v = render("crowd-strands.png", &["--technique", "strands"]);
+    assert_eq!(v["technique"], "strands");
+    let objects = v["objects"].as_array().expect("objects");
+    assert!(
+        objects
+            .iter()
+            .all(|o| o["technique"] == "strands" && o["lod"] == 0.0)
+    );
+    assert!(v.get("volume").is_none(), "nothing voxelized");
+}
