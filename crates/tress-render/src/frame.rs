@@ -47,7 +47,7 @@ use crate::gpu::types::{self, VolumeParams};
 use crate::gpu::{GpuTimer, TargetFormats, Targets, clear_loads};
 use crate::head::{HeadGeometry, HeadPass};
 use crate::inputs::{frame_sphere, lights_uniform};
-use crate::lod::{FramePlan, HybridSettings, LodBlend, LodLayers, Technique};
+use crate::lod::{FramePlan, HybridSettings, LodBlend, LodLayers, TechniqueKind, check_technique};
 use crate::stats::{FrameStats, ObjectFrame, ReadbackRing, SlotInfo, StatsReadback, VolumeFrame};
 use crate::strands::oit::{OitInputs, OitPart, StrandOit};
 use crate::strands::{
@@ -102,13 +102,13 @@ pub struct FrameInputs<'a> {
 }
 
 /// The hair renderer with its head pass: the strand rasterizer, the volume raymarcher and their
-/// level-of-detail blend ([`Technique`]) for one or several heads of hair; renders into
+/// level-of-detail blend ([`TechniqueKind`]) for one or several heads of hair; renders into
 /// caller-provided targets.
 #[derive(Debug)]
 pub struct Renderer {
     formats: TargetFormats,
     settings: StrandSettings,
-    technique: Technique,
+    technique: TechniqueKind,
     volume_settings: VolumeSettings,
     hybrid: HybridSettings,
     volume_sampler: wgpu::Sampler,
@@ -174,6 +174,7 @@ impl Renderer {
         inputs.material.validate()?;
         for o in inputs.objects {
             o.material.validate()?;
+            check_technique(o.technique)?;
         }
         check_objects(usize::from(inputs.hair.is_some()) + inputs.objects.len())?;
         if !inputs.ambient.is_finite() {

@@ -6,7 +6,8 @@
 //! [`Renderer::render`] every frame with its [`Targets`] and [`FrameInputs`]. `frame.rs` shows a
 //! whole frame top to bottom; the strand technique lives in [`strands`], the polygon-patch
 //! technique in [`patches`] ([`PatchRenderer`]), the volume technique in [`volume`] and the
-//! strands/volume level-of-detail blend in [`lod`] ([`Renderer::set_technique`]).
+//! strands/volume level-of-detail blend in [`lod`] ([`Renderer::set_technique`], several heads
+//! of hair in one frame: [`HairObject`]).
 //!
 //! ```no_run
 //! use tress_render::*;
@@ -60,7 +61,7 @@ pub use gpu::{
 };
 pub use head::{HeadGeometry, TriMesh};
 pub use inputs::{Camera, DirectionalLight, Material};
-pub use lod::{HybridSettings, ScreenExtent, Technique, Transition};
+pub use lod::{HybridSettings, ScreenExtent, TechniqueKind, Transition};
 pub use patches::{
     PatchFrameInputs, PatchFrameStats, PatchGeometry, PatchRenderer, PatchSettings, RenderScheme,
 };

@@ -3,8 +3,8 @@
 //!
 //! # Implementation
 //!
-//! - [`Technique::Strands`] draws only the rasterizer, [`Technique::Volume`] only the raymarcher;
-//!   [`Technique::Hybrid`] computes a blend factor `f` per frame: the fixed `lod` setting when
+//! - [`TechniqueKind::Strands`] draws only the rasterizer, [`TechniqueKind::Volume`] only the raymarcher;
+//!   [`TechniqueKind::Hybrid`] computes a blend factor `f` per frame: the fixed `lod` setting when
 //!   given, else `smoothstep(near, far, d)` of the distance `d` from the eye to the centre of the
 //!   hair's bounds (`tress_shading::lod_factor`), so close-ups are rasterized and far hair is
 //!   raymarched, as the paper proposes.
@@ -18,7 +18,6 @@
 //! - The head's shadows follow the rasterizer when it draws (ADSM or volume, its
 //!   `shadow_mode`), else the volume's.
 
-use std::fmt;
 use std::str::FromStr;
 
 use glam::Vec3;
@@ -34,53 +33,22 @@ use crate::{Camera, GpuContext, RenderError, shaders};
 /// The CPU twins of the blend factor and the dither thresholds (`tress_shading::volume`).
 pub use tress_shading::{dither_threshold, lod_factor};
 
-/// Which renderer draws the hair.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Technique {
-    /// The strand rasterizer, `"strands"`.
-    #[default]
-    Strands,
-    /// The volume raymarcher, `"volume"`.
-    Volume,
-    /// Both, blended by distance (or a fixed `lod`), `"hybrid"`.
-    Hybrid,
-    /// Chosen per head of hair and frame from its size on screen: strands from
-    /// [`HybridSettings::auto_near_px`] up, volume from [`HybridSettings::auto_far_px`] down,
-    /// the hybrid's blend between, `"auto"`.
-    Auto,
-}
+/// What draws a head of hair: the one list of technique names, `tress_scene::TechniqueKind`.
+/// This renderer draws [`TechniqueKind::Strands`], [`TechniqueKind::Volume`],
+/// [`TechniqueKind::Hybrid`] and [`TechniqueKind::Auto`] (chosen per head of hair and frame from
+/// its size on screen: strands from [`HybridSettings::auto_near_px`] up, volume from
+/// [`HybridSettings::auto_far_px`] down, the hybrid's blend between).
+pub use tress_scene::TechniqueKind;
 
-impl Technique {
-    /// The setting's spelling.
-    pub fn name(self) -> &'static str {
-        match self {
-            Technique::Strands => "strands",
-            Technique::Volume => "volume",
-            Technique::Hybrid => "hybrid",
-            Technique::Auto => "auto",
-        }
-    }
-}
-
-impl FromStr for Technique {
-    type Err = RenderError;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "strands" => Ok(Technique::Strands),
-            "volume" => Ok(Technique::Volume),
-            "hybrid" => Ok(Technique::Hybrid),
-            "auto" => Ok(Technique::Auto),
-            _ => Err(RenderError::Invalid(format!(
-                "unknown technique `{s}` for the renderer (expected strands, volume, hybrid or \
-                 auto)"
-            ))),
-        }
-    }
-}
-
-impl fmt::Display for Technique {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+/// A technique the strand renderer draws ([`TechniqueKind::per_object`]), or the error naming
+/// it.
+pub fn check_technique(technique: TechniqueKind) -> Result<TechniqueKind, RenderError> {
+    if technique.per_object() {
+        Ok(technique)
+    } else {
+        Err(RenderError::Invalid(format!(
+            "the strand renderer draws strands, volume, hybrid or auto, not `{technique}`"
+        )))
     }
 }
 
@@ -199,7 +167,7 @@ impl HybridSettings {
 /// the eye to `hair_center`; `auto` by the size on screen of a hair of radius 0 (see
 /// [`object_factor`] for the general case).
 pub fn frame_factor(
-    technique: Technique,
+    technique: TechniqueKind,
     hybrid: &HybridSettings,
     camera: &Camera,
     hair_center: Vec3,
@@ -211,16 +179,17 @@ pub fn frame_factor(
 /// strands, 1 for the volume, the hybrid's by the distance from the eye to the centre, `auto`'s
 /// by the sphere's size on screen ([`HybridSettings::auto_factor`]).
 pub fn object_factor(
-    technique: Technique,
+    technique: TechniqueKind,
     hybrid: &HybridSettings,
     camera: &Camera,
     bounds: (Vec3, f32),
 ) -> f32 {
     match technique {
-        Technique::Strands => 0.0,
-        Technique::Volume => 1.0,
-        Technique::Hybrid => hybrid.factor(camera.eye().distance(bounds.0)),
-        Technique::Auto => hybrid.auto_factor(ScreenExtent::of(camera, bounds).size_px),
+        // Patches and SATF are not drawn here ([`check_technique`]).
+        TechniqueKind::Strands | TechniqueKind::Patches | TechniqueKind::Satf => 0.0,
+        TechniqueKind::Volume => 1.0,
+        TechniqueKind::Hybrid => hybrid.factor(camera.eye().distance(bounds.0)),
+        TechniqueKind::Auto => hybrid.auto_factor(ScreenExtent::of(camera, bounds).size_px),
     }
 }
 
@@ -299,7 +268,7 @@ impl FramePlan {
     /// The plan of `hair` (none: only the head) drawn with `technique`, alone in its frame or
     /// (`several`) beside other heads of hair.
     pub(crate) fn new(
-        technique: Technique,
+        technique: TechniqueKind,
         settings: (&HybridSettings, &StrandSettings, &VolumeSettings),
         camera: &Camera,
         hair: Option<&StrandGeometry>,
@@ -393,11 +362,11 @@ impl FramePlan {
     }
 
     /// What drew the hair: strands, volume or hybrid (strands with no hair).
-    pub(crate) fn drawn(&self) -> Technique {
+    pub(crate) fn drawn(&self) -> TechniqueKind {
         match (self.strands, self.volume) {
-            (true, true) => Technique::Hybrid,
-            (false, true) => Technique::Volume,
-            _ => Technique::Strands,
+            (true, true) => TechniqueKind::Hybrid,
+            (false, true) => TechniqueKind::Volume,
+            _ => TechniqueKind::Strands,
         }
     }
 }
@@ -563,9 +532,15 @@ mod tests {
             100.0,
             [8, 8],
         );
-        assert!((frame_factor(Technique::Hybrid, &h, &cam, Vec3::ZERO) - 0.5).abs() < 1e-5);
-        assert_eq!(frame_factor(Technique::Strands, &h, &cam, Vec3::ZERO), 0.0);
-        assert_eq!(frame_factor(Technique::Volume, &h, &cam, Vec3::ZERO), 1.0);
+        assert!((frame_factor(TechniqueKind::Hybrid, &h, &cam, Vec3::ZERO) - 0.5).abs() < 1e-5);
+        assert_eq!(
+            frame_factor(TechniqueKind::Strands, &h, &cam, Vec3::ZERO),
+            0.0
+        );
+        assert_eq!(
+            frame_factor(TechniqueKind::Volume, &h, &cam, Vec3::ZERO),
+            1.0
+        );
     }
 
     #[test]
@@ -597,12 +572,16 @@ mod tests {
             let e = h.validate().unwrap_err().to_string();
             assert!(e.contains(name), "{e}");
         }
-        for t in [Technique::Strands, Technique::Volume, Technique::Hybrid] {
-            assert_eq!(t.name().parse::<Technique>().unwrap(), t);
+        for t in TechniqueKind::ALL {
+            assert_eq!(check_technique(t).is_ok(), t.per_object(), "{t}");
         }
+        assert!(check_technique(TechniqueKind::Auto).is_ok());
+        let e = check_technique(TechniqueKind::Satf)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("satf"), "{e}");
         for t in [Transition::Alpha, Transition::Dither] {
             assert_eq!(t.name().parse::<Transition>().unwrap(), t);
         }
-        assert!("patches".parse::<Technique>().is_err());
     }
 }

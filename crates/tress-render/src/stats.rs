@@ -82,7 +82,7 @@ pub struct FrameStats {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ObjectFrame {
     /// What drew it: strands, volume or hybrid (`auto` resolved, budget fallbacks applied).
-    pub technique: crate::Technique,
+    pub technique: crate::TechniqueKind,
     /// Its level-of-detail blend factor (0 strands only, 1 volume only).
     pub lod: f32,
     /// Its bounding sphere's diameter on screen, pixels.

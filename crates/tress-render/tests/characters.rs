@@ -9,8 +9,8 @@ use glam::Vec3;
 use tress_hair::HairAsset;
 use tress_render::{
     COLOR_FORMAT, Camera, DirectionalLight, FrameInputs, FrameStats, GpuContext, HairObject,
-    HybridSettings, Material, OffscreenTargets, Renderer, StrandGeometry, TargetFormats, Technique,
-    Transition, VolumeSettings,
+    HybridSettings, Material, OffscreenTargets, Renderer, StrandGeometry, TargetFormats,
+    TechniqueKind, Transition, VolumeSettings,
 };
 
 /// Three characters side by side, each in a square of `SIDE` pixels.
@@ -169,7 +169,11 @@ fn three_characters(shadows: bool) -> [(f32, f32); 3] {
         Vec3::new(0.1, 0.3, 0.12),
         Vec3::new(0.12, 0.16, 0.4),
     ];
-    let techniques = [Technique::Strands, Technique::Volume, Technique::Hybrid];
+    let techniques = [
+        TechniqueKind::Strands,
+        TechniqueKind::Volume,
+        TechniqueKind::Hybrid,
+    ];
     let objects: Vec<HairObject<'_>> = (0..3)
         .map(|i| HairObject {
             hair: &hair[i],
@@ -178,7 +182,7 @@ fn three_characters(shadows: bool) -> [(f32, f32); 3] {
         })
         .collect();
     let (all, stats) = stage.render(camera(), &objects);
-    let drawn: Vec<Technique> = stats.objects.iter().map(|o| o.technique).collect();
+    let drawn: Vec<TechniqueKind> = stats.objects.iter().map(|o| o.technique).collect();
     assert_eq!(drawn, techniques, "each object as asked");
     assert_eq!(stats.objects[2].lod, 0.5);
     std::array::from_fn(|i| {
@@ -243,7 +247,7 @@ fn volumes_keep_four_bytes_a_voxel_beside_one_set_of_counters_within_the_budget(
         .map(|hair| HairObject {
             hair,
             material: Material::default(),
-            technique: Technique::Volume,
+            technique: TechniqueKind::Volume,
         })
         .collect();
     let (_, stats) = stage.render(camera(), &objects);
@@ -265,7 +269,7 @@ fn volumes_keep_four_bytes_a_voxel_beside_one_set_of_counters_within_the_budget(
     for o in &stats.objects {
         assert_eq!(
             (o.technique, o.volume_bytes, o.fallback),
-            (Technique::Volume, resident, None)
+            (TechniqueKind::Volume, resident, None)
         );
     }
     let gpu = stats.gpu.as_ref().expect("waited for");
@@ -316,9 +320,9 @@ fn volumes_keep_four_bytes_a_voxel_beside_one_set_of_counters_within_the_budget(
     assert_eq!(
         drawn,
         [
-            (Technique::Volume, None),
-            (Technique::Volume, None),
-            (Technique::Strands, Some("volume.budget_mib")),
+            (TechniqueKind::Volume, None),
+            (TechniqueKind::Volume, None),
+            (TechniqueKind::Strands, Some("volume.budget_mib")),
         ]
     );
     assert_eq!(
@@ -357,13 +361,35 @@ fn auto_rasterizes_the_large_character_and_raymarches_the_small_one() {
     let objects = [&near, &far].map(|hair| HairObject {
         hair,
         material: Material::default(),
-        technique: Technique::Auto,
+        technique: TechniqueKind::Auto,
     });
     let (_, stats) = stage.render(cam, &objects);
     let [a, b] = [stats.objects[0], stats.objects[1]];
+    // Patches and SATF draw whole scenes, not a character among others.
+    let patches = HairObject {
+        technique: TechniqueKind::Patches,
+        ..objects[0]
+    };
+    let lights = [DirectionalLight::default()];
+    let inputs = FrameInputs {
+        camera: cam,
+        lights: &lights,
+        ambient: Vec3::ZERO,
+        material: Material::default(),
+        hair: None,
+        head: None,
+        clear: None,
+        objects: &[patches],
+    };
+    let e = stage
+        .renderer
+        .render(&stage.ctx, &stage.targets.targets(), &inputs)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("patches"), "{e}");
     eprintln!("near {:.1} px, far {:.1} px", a.size_px, b.size_px);
     assert!(a.size_px > hybrid.auto_near_px && b.size_px < hybrid.auto_far_px);
-    assert_eq!((a.technique, a.lod), (Technique::Strands, 0.0));
-    assert_eq!((b.technique, b.lod), (Technique::Volume, 1.0));
+    assert_eq!((a.technique, a.lod), (TechniqueKind::Strands, 0.0));
+    assert_eq!((b.technique, b.lod), (TechniqueKind::Volume, 1.0));
     assert!(a.coverage > b.coverage && b.coverage > 0.0);
 }

@@ -13,7 +13,7 @@ use tress_render::session::{AMBIENT, Session, SessionOptions, scene_from_inputs}
 use tress_render::{
     COLOR_FORMAT, FrameInputs, GpuContext, HeadGeometry, LinearImage, OffscreenTargets,
     PatchFrameInputs, PatchRenderer, PreparedScene, Renderer, SatfDatabase, SatfFrameInputs,
-    SatfGeometry, SatfRenderer, TargetFormats, Technique, read_texture,
+    SatfGeometry, SatfRenderer, TargetFormats, TechniqueKind, read_texture,
 };
 
 const SIZE: [u32; 2] = [96, 54];
@@ -62,11 +62,11 @@ fn session_frames_equal_the_renderers_frames() {
         .upload_hair(&ctx, &prepared.hair().unwrap())
         .unwrap();
     for (name, technique) in [
-        ("strands", Technique::Strands),
-        ("volume", Technique::Volume),
-        ("hybrid", Technique::Hybrid),
+        ("strands", TechniqueKind::Strands),
+        ("volume", TechniqueKind::Volume),
+        ("hybrid", TechniqueKind::Hybrid),
     ] {
-        renderer.set_technique(technique);
+        renderer.set_technique(technique).expect("technique");
         let inputs = FrameInputs {
             camera,
             lights: &prepared.lights,

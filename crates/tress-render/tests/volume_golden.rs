@@ -8,7 +8,7 @@ mod common;
 use glam::Vec3;
 use tress_render::{
     DirectionalLight, HybridSettings, Renderer, ShadowMode, StrandSettings, TargetFormats,
-    Technique, Transition, VolumeSettings, VoxelizeMode,
+    TechniqueKind, Transition, VolumeSettings, VoxelizeMode,
 };
 
 const SIZE: u32 = 128;
@@ -37,7 +37,7 @@ fn volume() -> VolumeSettings {
 }
 
 fn render(
-    technique: Technique,
+    technique: TechniqueKind,
     strands: StrandSettings,
     volume: VolumeSettings,
     hybrid: HybridSettings,
@@ -46,7 +46,7 @@ fn render(
     let mut r = Renderer::new(&ctx, TargetFormats::default(), strands).expect("renderer");
     r.set_volume_settings(&ctx, volume).expect("volume");
     r.set_hybrid_settings(hybrid).expect("hybrid");
-    r.set_technique(technique);
+    r.set_technique(technique).expect("technique");
     let lights = [DirectionalLight {
         direction: Vec3::new(0.6, -0.6, -0.5),
         color: Vec3::ONE,
@@ -65,7 +65,7 @@ fn volume_kajiya_kay_with_volume_shadows_and_ao() {
         return;
     }
     let img = render(
-        Technique::Volume,
+        TechniqueKind::Volume,
         strands(),
         volume(),
         HybridSettings::default(),
@@ -83,7 +83,12 @@ fn volume_vertices_mode_with_its_filter() {
         skip_empty: true,
         ..volume()
     };
-    let img = render(Technique::Volume, strands(), v, HybridSettings::default());
+    let img = render(
+        TechniqueKind::Volume,
+        strands(),
+        v,
+        HybridSettings::default(),
+    );
     common::check_golden("volume_vertices", &img, MAX_MEAN_FLIP);
 }
 
@@ -97,7 +102,12 @@ fn strands_with_volume_shadows_and_ao() {
         ao: true,
         ..strands()
     };
-    let img = render(Technique::Strands, s, volume(), HybridSettings::default());
+    let img = render(
+        TechniqueKind::Strands,
+        s,
+        volume(),
+        HybridSettings::default(),
+    );
     common::check_golden("strands_volume_shadows_ao", &img, MAX_MEAN_FLIP);
 }
 
@@ -111,6 +121,6 @@ fn hybrid_dithered_halfway() {
         transition: Transition::Dither,
         ..Default::default()
     };
-    let img = render(Technique::Hybrid, strands(), volume(), h);
+    let img = render(TechniqueKind::Hybrid, strands(), volume(), h);
     common::check_golden("hybrid_dither_half", &img, MAX_MEAN_FLIP);
 }

@@ -9,7 +9,7 @@ use glam::Vec3;
 use tress_render::{
     COLOR_FORMAT, Camera, DirectionalLight, FrameInputs, FrameStats, GpuContext, HeadGeometry,
     HybridSettings, LinearImage, Material, OffscreenTargets, Renderer, ShadowMode, StrandGeometry,
-    StrandSettings, TargetFormats, Technique, Timings, Transition, TriMesh, VolumeSettings,
+    StrandSettings, TargetFormats, TechniqueKind, Timings, Transition, TriMesh, VolumeSettings,
     read_texture,
 };
 
@@ -135,7 +135,9 @@ fn raymarcher_draws_the_hair_and_stops_at_the_head() {
         return;
     }
     let mut s = scene();
-    s.renderer.set_technique(Technique::Volume);
+    s.renderer
+        .set_technique(TechniqueKind::Volume)
+        .expect("technique");
     let (hair, stats) = s.render(camera(5.0), false);
     save("volume", &hair);
     let hair_pixels = hair
@@ -230,7 +232,9 @@ fn empty_space_skipping_gives_the_same_image() {
         return;
     }
     let mut s = scene();
-    s.renderer.set_technique(Technique::Volume);
+    s.renderer
+        .set_technique(TechniqueKind::Volume)
+        .expect("technique");
     let (plain, _) = s.render(camera(6.0), true);
     s.renderer
         .set_volume_settings(
@@ -254,9 +258,13 @@ fn lod_0_is_the_strand_renderer_and_lod_1_the_raymarcher() {
     let mut s = scene();
     let cam = camera(5.0);
     let (strands, _) = s.render(cam, true);
-    s.renderer.set_technique(Technique::Volume);
+    s.renderer
+        .set_technique(TechniqueKind::Volume)
+        .expect("technique");
     let (volume, _) = s.render(cam, true);
-    s.renderer.set_technique(Technique::Hybrid);
+    s.renderer
+        .set_technique(TechniqueKind::Hybrid)
+        .expect("technique");
     let fixed = |lod| HybridSettings {
         lod: Some(lod),
         ..Default::default()
@@ -332,9 +340,13 @@ fn transitions_mix_the_two_renderers() {
     s.renderer.set_settings(&s.ctx, settings).expect("settings");
     let cam = camera(5.0);
     let (strands, _) = s.render(cam, true);
-    s.renderer.set_technique(Technique::Volume);
+    s.renderer
+        .set_technique(TechniqueKind::Volume)
+        .expect("technique");
     let (volume, _) = s.render(cam, true);
-    s.renderer.set_technique(Technique::Hybrid);
+    s.renderer
+        .set_technique(TechniqueKind::Hybrid)
+        .expect("technique");
     for transition in [Transition::Alpha, Transition::Dither] {
         s.renderer
             .set_hybrid_settings(HybridSettings {
@@ -496,9 +508,13 @@ struct Agreement {
 
 fn agreement(s: &mut Scene, distance: f32) -> Agreement {
     let cam = camera(distance);
-    s.renderer.set_technique(Technique::Strands);
+    s.renderer
+        .set_technique(TechniqueKind::Strands)
+        .expect("technique");
     let (strands, _) = s.render(cam, false);
-    s.renderer.set_technique(Technique::Volume);
+    s.renderer
+        .set_technique(TechniqueKind::Volume)
+        .expect("technique");
     let (volume, _) = s.render(cam, false);
     let (a, b) = (hair_mask(&strands), hair_mask(&volume));
     let both = a.iter().zip(&b).filter(|(x, y)| **x && **y).count();

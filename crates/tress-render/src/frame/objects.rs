@@ -8,7 +8,7 @@
 
 use crate::bind::Layouts;
 use crate::gpu::types::{FiberCache, MaterialUniform, StrandParams, VolumeParams};
-use crate::lod::{FramePlan, Technique};
+use crate::lod::{FramePlan, TechniqueKind};
 use crate::strands::StrandGeometry;
 use crate::volume::{VolumeBinding, Voxelizer};
 use crate::{GpuContext, Material, RenderError};
@@ -27,8 +27,9 @@ pub struct HairObject<'a> {
     pub hair: &'a StrandGeometry,
     /// Its material.
     pub material: Material,
-    /// What draws it: strands, volume, hybrid or auto (by its size on screen).
-    pub technique: Technique,
+    /// What draws it: strands, volume, hybrid or auto (by its size on screen); patches and
+    /// SATF are errors.
+    pub technique: TechniqueKind,
 }
 
 /// The renderer's state for one head of hair of a frame.
@@ -245,9 +246,9 @@ pub(super) fn view_group(
 pub(super) fn frame_objects<'a>(
     hair: Option<&'a StrandGeometry>,
     material: Material,
-    technique: Technique,
+    technique: TechniqueKind,
     objects: &[HairObject<'a>],
-) -> Vec<(Option<&'a StrandGeometry>, Material, Technique)> {
+) -> Vec<(Option<&'a StrandGeometry>, Material, TechniqueKind)> {
     let mut all: Vec<_> = hair
         .map(|h| (Some(h), material, technique))
         .into_iter()

@@ -8,7 +8,7 @@ use crate::bind::Layouts;
 use crate::gpu::types::{CameraUniform, LightsUniform};
 use crate::gpu::{GpuTimer, TargetFormats};
 use crate::head::HeadPass;
-use crate::lod::{HybridSettings, LodBlend, Technique};
+use crate::lod::{HybridSettings, LodBlend, TechniqueKind, check_technique};
 use crate::stats::{ReadbackRing, StatsReadback};
 use crate::strands::oit::StrandOit;
 use crate::strands::{ShadowMap, StrandGeometry, StrandSettings};
@@ -55,7 +55,7 @@ impl Renderer {
         let ring = ReadbackRing::new(ctx, &timer, 3);
         let mut renderer = Renderer {
             formats,
-            technique: Technique::Strands,
+            technique: TechniqueKind::Strands,
             volume_settings: VolumeSettings::default(),
             hybrid: HybridSettings::default(),
             raymarch: Raymarch::new(ctx, &layouts, formats.color)?,
@@ -177,14 +177,16 @@ impl Renderer {
         Ok(())
     }
 
-    /// The technique that draws the hair (default [`Technique::Strands`]).
-    pub fn technique(&self) -> Technique {
+    /// The technique that draws `FrameInputs::hair` (default [`TechniqueKind::Strands`]).
+    pub fn technique(&self) -> TechniqueKind {
         self.technique
     }
 
-    /// Choose the technique that draws the hair.
-    pub fn set_technique(&mut self, technique: Technique) {
-        self.technique = technique;
+    /// Choose the technique that draws `FrameInputs::hair`: strands, volume, hybrid or auto
+    /// (patches and SATF are errors, and leave it unchanged).
+    pub fn set_technique(&mut self, technique: TechniqueKind) -> Result<(), RenderError> {
+        self.technique = check_technique(technique)?;
+        Ok(())
     }
 
     /// The volume settings.

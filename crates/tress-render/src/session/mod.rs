@@ -43,7 +43,7 @@ use crate::{
     Camera, DirectionalLight, FrameInputs, FrameStats, GpuContext, HairObject, HeadGeometry,
     LinearImage, PatchFrameInputs, PatchFrameStats, PatchGeometry, PatchRenderer, RenderError,
     Renderer, SatfDatabase, SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer,
-    StatsReadback, StrandGeometry, TargetFormats, Targets, Technique, Timings,
+    StatsReadback, StrandGeometry, TargetFormats, Targets, Timings,
 };
 
 /// The techniques a session draws, in the order the viewer cycles them (the names of
@@ -471,7 +471,7 @@ impl Session {
                     self.strands = Some(StrandPath { renderer, hair });
                 }
                 if let Some(s) = &mut self.strands {
-                    s.renderer.set_technique(strand_technique(self.technique)?);
+                    s.renderer.set_technique(self.technique)?;
                 }
             }
             _ => {}
@@ -652,14 +652,12 @@ impl Session {
                     s.hair
                         .iter()
                         .zip(&self.prepared.objects)
-                        .map(|(hair, o)| {
-                            Ok(HairObject {
-                                hair,
-                                material: o.material,
-                                technique: strand_technique(o.technique)?,
-                            })
+                        .map(|(hair, o)| HairObject {
+                            hair,
+                            material: o.material,
+                            technique: o.technique,
                         })
-                        .collect::<Result<_, RenderError>>()?
+                        .collect()
                 } else {
                     Vec::new()
                 };
@@ -685,7 +683,7 @@ impl Session {
                     stats
                         .objects
                         .iter()
-                        .any(|o| o.technique != Technique::Volume)
+                        .any(|o| o.technique != TechniqueKind::Volume)
                 };
                 let memory = Memory {
                     geometry: s.hair.iter().map(StrandGeometry::bytes).sum::<u64>() + head_bytes,
@@ -707,11 +705,6 @@ impl Session {
             detail,
         })
     }
-}
-
-/// The strand renderer's technique of a scene technique (strands, volume, hybrid or auto).
-fn strand_technique(kind: TechniqueKind) -> Result<Technique, RenderError> {
-    kind.name().parse()
 }
 
 /// Whether a dotted key only changes settings, lights or materials (no reload).
