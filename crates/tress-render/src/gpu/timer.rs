@@ -156,13 +156,7 @@ impl GpuTimer {
         begin: bool,
         end: bool,
     ) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        let i = self.index(name, Some(object))?;
-        self.pass_writes(i, begin, end)
-            .map(|(query_set, b, e)| wgpu::RenderPassTimestampWrites {
-                query_set,
-                beginning_of_pass_write_index: b,
-                end_of_pass_write_index: e,
-            })
+        self.render_writes_of(name, Some(object), begin, end)
     }
 
     /// Timestamp writes for a compute pass of object `object`.
@@ -173,7 +167,33 @@ impl GpuTimer {
         begin: bool,
         end: bool,
     ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        let i = self.index(name, Some(object))?;
+        self.compute_writes_of(name, Some(object), begin, end)
+    }
+
+    fn render_writes_of(
+        &self,
+        name: &str,
+        object: Option<usize>,
+        begin: bool,
+        end: bool,
+    ) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let i = self.index(name, object)?;
+        self.pass_writes(i, begin, end)
+            .map(|(query_set, b, e)| wgpu::RenderPassTimestampWrites {
+                query_set,
+                beginning_of_pass_write_index: b,
+                end_of_pass_write_index: e,
+            })
+    }
+
+    fn compute_writes_of(
+        &self,
+        name: &str,
+        object: Option<usize>,
+        begin: bool,
+        end: bool,
+    ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        let i = self.index(name, object)?;
         self.pass_writes(i, begin, end)
             .map(|(query_set, b, e)| wgpu::ComputePassTimestampWrites {
                 query_set,
@@ -215,13 +235,7 @@ impl GpuTimer {
         begin: bool,
         end: bool,
     ) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        let i = self.index(name, None)?;
-        self.pass_writes(i, begin, end)
-            .map(|(query_set, b, e)| wgpu::RenderPassTimestampWrites {
-                query_set,
-                beginning_of_pass_write_index: b,
-                end_of_pass_write_index: e,
-            })
+        self.render_writes_of(name, None, begin, end)
     }
 
     /// Timestamp writes for a compute pass (`begin`/`end` as in [`GpuTimer::render_writes`]).
@@ -231,13 +245,7 @@ impl GpuTimer {
         begin: bool,
         end: bool,
     ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        let i = self.index(name, None)?;
-        self.pass_writes(i, begin, end)
-            .map(|(query_set, b, e)| wgpu::ComputePassTimestampWrites {
-                query_set,
-                beginning_of_pass_write_index: b,
-                end_of_pass_write_index: e,
-            })
+        self.compute_writes_of(name, None, begin, end)
     }
 
     /// Resolve the queries of the slots used this frame and copy them to `dst` at `offset`
