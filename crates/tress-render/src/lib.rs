@@ -3,11 +3,12 @@
 //! The library renders into **caller-provided** color and depth views: an application creates
 //! (or borrows) a [`GpuContext`], builds a [`Renderer`], uploads hair with
 //! [`Renderer::upload_hair`] and a head with [`HeadGeometry::new`], then calls
-//! [`Renderer::render`] every frame with its [`Targets`] and [`FrameInputs`]. `frame.rs` shows a
-//! whole frame top to bottom; the strand technique lives in [`strands`], the polygon-patch
-//! technique in [`patches`] ([`PatchRenderer`]), the volume technique in [`volume`] and the
-//! strands/volume level-of-detail blend in [`lod`] ([`Renderer::set_technique`], several heads
-//! of hair in one frame: [`HairObject`]).
+//! [`Renderer::render`] every frame with its [`Targets`] and [`FrameInputs`]. `hybrid/renderer.rs`
+//! shows a whole frame top to bottom; the strand technique lives in [`strands`], the
+//! polygon-patch technique in [`patches`] ([`PatchRenderer`]), the volume technique in
+//! [`volume`] and the strands/volume level-of-detail blend with the [`Renderer`] that draws all
+//! three in [`hybrid`] ([`Renderer::set_technique`], several heads of hair in one frame:
+//! [`HairObject`]).
 //!
 //! ```no_run
 //! use tress_render::*;
@@ -39,11 +40,10 @@
 
 mod bind;
 mod error;
-mod frame;
 pub mod gpu;
 pub mod head;
+pub mod hybrid;
 mod inputs;
-pub mod lod;
 pub mod patches;
 pub mod satf;
 pub mod scene_setup;
@@ -54,14 +54,14 @@ pub mod strands;
 pub mod volume;
 
 pub use error::RenderError;
-pub use frame::{FrameInputs, HairObject, MAX_ATTEMPTS, MAX_OBJECTS, PASS_NAMES, Renderer};
 pub use gpu::{
     COLOR_FORMAT, ContextOptions, DEPTH_FORMAT, GpuContext, LinearImage, OffscreenTargets,
     TargetFormats, Targets, Timings, read_texture,
 };
 pub use head::{HeadGeometry, TriMesh};
+pub use hybrid::{FrameInputs, HairObject, MAX_ATTEMPTS, MAX_OBJECTS, PASS_NAMES, Renderer};
+pub use hybrid::{HybridSettings, ScreenExtent, TechniqueKind, Transition};
 pub use inputs::{Camera, DirectionalLight, Material};
-pub use lod::{HybridSettings, ScreenExtent, TechniqueKind, Transition};
 pub use patches::{
     PatchFrameInputs, PatchFrameStats, PatchGeometry, PatchRenderer, PatchSettings, RenderScheme,
 };

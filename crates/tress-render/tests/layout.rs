@@ -272,7 +272,7 @@ fn volume_types_match_wgsl() {
         ResolveArgs,
         [groups, _pad0, origin, _pad1, end, _pad2]
     );
-    let text = shaders::compose("lod_blend.wgsl").expect("composes");
+    let text = shaders::compose("hybrid/lod_blend.wgsl").expect("composes");
     let m = naga::front::wgsl::parse_str(&text).expect("parses");
     check!(
         &m,

@@ -50,7 +50,7 @@ fn entry_modules_have_their_entry_points() {
         ("volume/voxelize.wgsl", &["voxelize"]),
         ("volume/volume_resolve.wgsl", &["resolve"]),
         ("volume/raymarch.wgsl", &["vs_main", "fs_main"]),
-        ("lod_blend.wgsl", &["vs_main", "fs_main"]),
+        ("hybrid/lod_blend.wgsl", &["vs_main", "fs_main"]),
         ("patches/z_prime.wgsl", &["vs_main", "fs_main"]),
         (
             "patches/patch_shade.wgsl",

@@ -107,10 +107,10 @@ mod tests {
         assert!(changed_shaders(&dir).is_empty());
         assert!(report(Some(&dir)).contains("same as the built-in"));
         std::fs::write(file_below_src(&dir, "common/camera.wgsl"), "// edited\n").unwrap();
-        std::fs::remove_file(file_below_src(&dir, "lod_blend.wgsl")).unwrap();
+        std::fs::remove_file(file_below_src(&dir, "hybrid/lod_blend.wgsl")).unwrap();
         assert_eq!(
             changed_shaders(&dir),
-            vec!["common/camera.wgsl", "lod_blend.wgsl"]
+            vec!["common/camera.wgsl", "hybrid/lod_blend.wgsl"]
         );
         assert!(report(Some(&dir)).contains("2 file(s) differ"));
         assert!(report(None).contains(SOURCE_DIR_ENV));

@@ -20,7 +20,7 @@ use anyhow::{Context, Result, bail};
 use glam::UVec2;
 use serde::Serialize;
 use tress_render::gpu::linear_to_srgb;
-use tress_render::lod::dither_threshold;
+use tress_render::hybrid::dither_threshold;
 use tress_render::scene_setup::PreparedScene;
 use tress_render::session::{FrameDetail, Session, TechniqueKind};
 use tress_render::{COLOR_FORMAT, Camera, GpuContext, LinearImage, OffscreenTargets, read_texture};

@@ -132,7 +132,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         "volume/raymarch.wgsl",
         include_str!("../volume/raymarch.wgsl"),
     ),
-    ("lod_blend.wgsl", include_str!("../lod_blend.wgsl")),
+    (
+        "hybrid/lod_blend.wgsl",
+        include_str!("../hybrid/lod_blend.wgsl"),
+    ),
     (
         "patches/geometry.wgsl",
         include_str!("../patches/geometry.wgsl"),
@@ -171,7 +174,7 @@ pub const ENTRY_MODULES: &[&str] = &[
     "volume/voxelize.wgsl",
     "volume/volume_resolve.wgsl",
     "volume/raymarch.wgsl",
-    "lod_blend.wgsl",
+    "hybrid/lod_blend.wgsl",
     "patches/z_prime.wgsl",
     "patches/patch_shade.wgsl",
     "patches/patch_head.wgsl",
@@ -353,8 +356,8 @@ mod tests {
         std::fs::write(&camera, text).unwrap();
         set_source_dir(Some(dir.clone()));
         let edited = compose("head/head_pass.wgsl");
-        std::fs::remove_file(dir.join("lod_blend.wgsl")).unwrap();
-        let missing = compose("lod_blend.wgsl");
+        std::fs::remove_file(dir.join("hybrid/lod_blend.wgsl")).unwrap();
+        let missing = compose("hybrid/lod_blend.wgsl");
         set_source_dir(None);
         assert!(edited.unwrap().contains("// edited on disk"));
         let e = missing.unwrap_err().to_string();

@@ -5,7 +5,7 @@
 //!
 //! # Implementation
 //!
-//! Passes, in frame order (see `frame.rs`): [`ShadowMap`] (`shadow.wgsl`), the head pass, then
+//! Passes, in frame order (see `hybrid/renderer.rs`): [`ShadowMap`] (`shadow.wgsl`), the head pass, then
 //! either [`PpllBuild`] (`ppll_build.wgsl`) and [`PpllResolve`] (`ppll_resolve.wgsl`), or
 //! [`ShortcutDepth`], [`ShortcutShade`] and [`ShortcutResolve`] (`shortcut_*.wgsl`).
 //!

@@ -5,7 +5,7 @@
 //!
 //! # Implementation
 //!
-//! Passes, in frame order (see `frame.rs`), all recorded by the [`Voxelizer`] except the last:
+//! Passes, in frame order (see `hybrid/renderer.rs`), all recorded by the [`Voxelizer`] except the last:
 //! [`VolumeBounds`] (`volume_bounds.wgsl`), [`Voxelize`] (`voxelize.wgsl`), [`VolumeResolve`]
 //! (`volume_resolve.wgsl`), then [`Raymarch`] (`raymarch.wgsl`). The CPU reference of the
 //! voxelizer is `tress_shading::voxelize`, the shading twins are `tress_shading::volume` (their

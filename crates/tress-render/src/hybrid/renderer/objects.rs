@@ -8,7 +8,7 @@
 
 use crate::bind::Layouts;
 use crate::gpu::types::{FiberCache, MaterialUniform, StrandParams, VolumeParams};
-use crate::lod::{FramePlan, TechniqueKind};
+use crate::hybrid::{FramePlan, TechniqueKind};
 use crate::strands::StrandGeometry;
 use crate::volume::{VolumeBinding, Voxelizer};
 use crate::{GpuContext, Material, RenderError};

@@ -1,5 +1,5 @@
 //! The [`Renderer`]'s construction and settings: pipelines, uniforms, the lighting bind group
-//! (lights, material, shadow maps, the hair volume), techniques. A frame itself is in `frame.rs`.
+//! (lights, material, shadow maps, the hair volume), techniques. A frame itself is in `renderer.rs`.
 
 use wgpu::util::DeviceExt;
 
@@ -8,7 +8,7 @@ use crate::bind::Layouts;
 use crate::gpu::types::{CameraUniform, LightsUniform};
 use crate::gpu::{GpuTimer, TargetFormats};
 use crate::head::HeadPass;
-use crate::lod::{HybridSettings, LodBlend, TechniqueKind, check_technique};
+use crate::hybrid::{HybridSettings, LodBlend, TechniqueKind, check_technique};
 use crate::stats::{ReadbackRing, StatsReadback};
 use crate::strands::oit::StrandOit;
 use crate::strands::{ShadowMap, StrandGeometry, StrandSettings};

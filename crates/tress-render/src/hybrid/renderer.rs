@@ -28,7 +28,7 @@
 //!
 //! With one head of hair, at `f = 0` the strand passes draw straight into the target, at `f = 1`
 //! the raymarch does; only in between do both draw into scratch layers that `lod_blend` mixes
-//! (see [`crate::lod`]). With several, a hybrid head of hair uses the paper's dithered transition
+//! (see [`crate::hybrid`]). With several, a hybrid head of hair uses the paper's dithered transition
 //! in the frame itself (its strands in the shared OIT, its volume in the other pixels), so no
 //! head of hair needs an OIT of its own; characters are composited in depth order of groups: the
 //! volumes far to near, then every rasterized character in one OIT (so a volume character in
@@ -46,8 +46,10 @@ use crate::bind::Layouts;
 use crate::gpu::types::{self, VolumeParams};
 use crate::gpu::{GpuTimer, TargetFormats, Targets, clear_loads};
 use crate::head::{HeadGeometry, HeadPass};
+use crate::hybrid::{
+    FramePlan, HybridSettings, LodBlend, LodLayers, TechniqueKind, check_technique,
+};
 use crate::inputs::{frame_sphere, lights_uniform};
-use crate::lod::{FramePlan, HybridSettings, LodBlend, LodLayers, TechniqueKind, check_technique};
 use crate::stats::{FrameStats, ObjectFrame, ReadbackRing, SlotInfo, StatsReadback, VolumeFrame};
 use crate::strands::oit::{OitInputs, OitPart, StrandOit};
 use crate::strands::{
@@ -280,7 +282,7 @@ impl Renderer {
         inputs: &FrameInputs<'_>,
         size: [u32; 2],
     ) -> Result<Submitted, RenderError> {
-        // ---- plan: what draws each head of hair this frame (crate::lod), volumes in budget
+        // ---- plan: what draws each head of hair this frame (crate::hybrid), volumes in budget
         let hair = frame_objects(inputs.hair, inputs.material, self.technique, inputs.objects);
         let several = hair.len() > 1;
         let settings = (&self.hybrid, &self.settings, &self.volume_settings);
