@@ -28,12 +28,14 @@ use crate::RenderError;
 mod lod_blend;
 mod plan;
 pub(crate) mod renderer;
+mod technique;
 
 pub use lod_blend::LodBlend;
 pub(crate) use lod_blend::LodLayers;
 pub(crate) use plan::FramePlan;
 pub use plan::{ScreenExtent, frame_factor, object_factor};
 pub use renderer::{FrameInputs, HairObject, MAX_ATTEMPTS, MAX_OBJECTS, PASS_NAMES, Renderer};
+pub(crate) use technique::StrandTechnique;
 
 /// The CPU twins of the blend factor and the dither thresholds (`tress_shading::volume`).
 pub use tress_shading::{dither_threshold, lod_factor};

@@ -83,6 +83,7 @@ mod patch_head;
 mod patch_shade;
 mod renderer;
 pub mod scene;
+mod technique;
 mod textures;
 mod z_prime;
 
@@ -94,6 +95,7 @@ pub use passes::{
 pub use patch_head::PatchHead;
 pub use patch_shade::PatchShade;
 pub use renderer::{PatchFrameInputs, PatchFrameStats, PatchRenderer};
+pub(crate) use technique::PatchTechnique;
 pub use textures::{
     MAX_TEXTURE_EDGE, PatchTextures, TextureSlot, downsample, load_texture_png, mip_chain,
     save_texture_png, save_textures_png, texture_image, validate_texture,

@@ -114,6 +114,7 @@ mod passes;
 mod renderer;
 mod s_maps;
 pub mod scene;
+mod technique;
 mod texture_map;
 
 pub use cluster_shadow::ClusterShadow;
@@ -125,6 +126,7 @@ pub use lighting::Lighting;
 pub use map_build::MapBuild;
 pub use renderer::{SatfFrameInputs, SatfFrameStats, SatfRenderer};
 pub use s_maps::SMaps;
+pub(crate) use technique::SatfTechnique;
 pub use texture_map::TextureMap;
 pub use tress_satf::ShellSampling;
 pub use tress_satf::database::LookupSettings;

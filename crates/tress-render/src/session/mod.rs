@@ -3,11 +3,18 @@
 //!
 //! A [`Session`] loads a [`Scene`] once (hair, head, lights), uploads what the current technique
 //! needs on first use and keeps it while other techniques are tried: the strand renderer
-//! ([`Renderer`]) draws `strands`, `volume`, `hybrid` and `auto`, every `[[hair]]` entry as a
-//! head of hair of its own ([`crate::HairObject`], with its material and technique: a scene of
-//! several characters), [`PatchRenderer`] draws `patches` and [`SatfRenderer`] draws `satf`
-//! (every entry merged). Settings change by the scene's dotted names
-//! ([`Session::set`]), and every frame reports its per-pass GPU times and a [`Memory`] breakdown.
+//! ([`crate::Renderer`]) draws `strands`, `volume`, `hybrid` and `auto`, every `[[hair]]` entry
+//! as a head of hair of its own ([`crate::HairObject`], with its material and technique: a
+//! scene of several characters), [`crate::PatchRenderer`] draws `patches` and
+//! [`crate::SatfRenderer`] draws `satf` (every entry merged). Settings change by the scene's
+//! dotted names ([`Session::set`]), and every frame reports its per-pass GPU times and a
+//! [`Memory`] breakdown.
+//!
+//! A frame: the session decides what every technique shares (the camera, the lights, the
+//! ambient light, the head, the clear colour, the prepared scene: `technique::SharedFrame`) and
+//! hands it to the current technique through one trait (`technique::Technique::draw`), which
+//! each technique implements in its own folder with only its own state (`hybrid/technique.rs`,
+//! `patches/technique.rs`, `satf/technique.rs`).
 //!
 //! ```no_run
 //! use tress_render::session::{Session, SessionOptions, scene_from_inputs};
@@ -27,6 +34,7 @@
 
 mod inputs;
 mod memory;
+pub(crate) mod technique;
 
 use std::time::Instant;
 
@@ -34,16 +42,20 @@ use glam::Vec3;
 use tress_scene::Scene;
 
 pub use inputs::{DEMO_SCENE, scene_from_inputs};
-pub use memory::Memory;
 
-use crate::patches::scene::{PatchScene, load_patches, patch_settings};
-use crate::satf::scene::{SatfScene, load_clusters, satf_settings};
+use crate::hybrid::StrandTechnique;
+use crate::patches::PatchTechnique;
+use crate::satf::SatfTechnique;
+pub use memory::Memory;
+use technique::{SharedFrame, Technique, TechniqueFrame};
+
+use crate::patches::scene::{PatchScene, patch_settings};
+use crate::satf::scene::SatfScene;
 use crate::scene_setup::{PreparedScene, frame_bounds};
 use crate::{
-    Camera, DirectionalLight, FrameInputs, FrameStats, GpuContext, HairObject, HeadGeometry,
-    LinearImage, PatchFrameInputs, PatchFrameStats, PatchGeometry, PatchRenderer, RenderError,
-    Renderer, SatfDatabase, SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer,
-    StatsReadback, StrandGeometry, TargetFormats, Targets, Timings,
+    Camera, DirectionalLight, FrameStats, GpuContext, HeadGeometry, LinearImage, PatchFrameStats,
+    RenderError, SatfDatabase, SatfFrameStats, SatfGeometry, StatsReadback, TargetFormats, Targets,
+    Timings,
 };
 
 /// The techniques a session draws, in the order the viewer cycles them (the names of
@@ -115,26 +127,6 @@ pub struct SessionFrame {
     pub detail: FrameDetail,
 }
 
-struct StrandPath {
-    renderer: Renderer,
-    /// Each `[[hair]]` entry's strands.
-    hair: Vec<StrandGeometry>,
-}
-
-struct PatchPath {
-    renderer: PatchRenderer,
-    geometry: PatchGeometry,
-    scene: PatchScene,
-}
-
-struct SatfPath {
-    renderer: SatfRenderer,
-    geometry: SatfGeometry,
-    database: SatfDatabase,
-    settings: SatfScene,
-    clusters_ms: f64,
-}
-
 /// What the `satf` technique was prepared with (see [`Session::satf`]).
 #[derive(Clone, Copy, Debug)]
 pub struct SatfInfo<'a> {
@@ -155,9 +147,9 @@ pub struct Session {
     prepared: PreparedScene,
     head: Option<HeadGeometry>,
     technique: TechniqueKind,
-    strands: Option<StrandPath>,
-    patches: Option<PatchPath>,
-    satf: Option<SatfPath>,
+    strands: Option<StrandTechnique>,
+    patches: Option<PatchTechnique>,
+    satf: Option<SatfTechnique>,
     loader: Option<DatabaseLoader>,
     readback: StatsReadback,
     hair_visible: bool,
@@ -340,7 +332,7 @@ impl Session {
                     }
                 }
                 if let Some(s) = &mut self.strands {
-                    apply_strand_settings(ctx, &mut s.renderer, &prepared)?;
+                    s.renderer.apply_settings(ctx, &prepared)?;
                 }
                 for (o, spec) in self.prepared.objects.iter_mut().zip(&scene.hair) {
                     o.material = crate::scene_setup::hair_material(&spec.material)?;
@@ -411,64 +403,34 @@ impl Session {
     fn prepare(&mut self, ctx: &GpuContext) -> Result<(), RenderError> {
         match self.technique {
             TechniqueKind::Patches if self.patches.is_none() => {
-                let scene = load_patches(&self.scene, &self.prepared)?;
-                let settings = patch_settings(&self.scene)?;
-                let mut renderer = if scene.textures_from_files {
-                    PatchRenderer::with_textures(
-                        ctx,
-                        self.formats,
-                        settings,
-                        scene.textures.clone(),
-                    )?
-                } else {
-                    PatchRenderer::new(ctx, self.formats, settings)?
-                };
-                renderer.set_stats_readback(self.readback);
-                let geometry = renderer.upload_patches(ctx, &scene.mesh, scene.sort_center)?;
-                self.patches = Some(PatchPath {
-                    renderer,
-                    geometry,
-                    scene,
-                });
+                self.patches = Some(PatchTechnique::new(
+                    ctx,
+                    self.formats,
+                    &self.scene,
+                    &self.prepared,
+                    self.readback,
+                )?);
             }
             TechniqueKind::Satf if self.satf.is_none() => {
-                let settings = satf_settings(&self.scene)?;
-                let loader = self.loader.as_mut().ok_or_else(|| {
-                    invalid("the satf technique needs an HRIR database (none was given)")
-                })?;
-                let db = loader(&settings).map_err(RenderError::Database)?;
-                let start = Instant::now();
-                let volume =
-                    load_clusters(&self.scene, &settings, self.prepared.hair().as_deref())?;
-                let clusters_ms = start.elapsed().as_secs_f64() * 1e3;
-                let database = SatfDatabase::new(ctx, &db)?;
-                let geometry = SatfGeometry::new(ctx, &volume, &database, &settings.settings)?;
-                let mut renderer = SatfRenderer::new(ctx, self.formats, settings.settings)?;
-                renderer.set_stats_readback(self.readback);
-                self.satf = Some(SatfPath {
-                    renderer,
-                    geometry,
-                    database,
-                    settings,
-                    clusters_ms,
-                });
+                self.satf = Some(SatfTechnique::new(
+                    ctx,
+                    self.formats,
+                    (&self.scene, &self.prepared),
+                    self.loader.as_mut(),
+                    self.readback,
+                )?);
             }
             TechniqueKind::Strands
             | TechniqueKind::Volume
             | TechniqueKind::Hybrid
             | TechniqueKind::Auto => {
                 if self.strands.is_none() {
-                    let mut renderer =
-                        Renderer::new(ctx, self.formats, self.prepared.strands.clone())?;
-                    apply_strand_settings(ctx, &mut renderer, &self.prepared)?;
-                    renderer.set_stats_readback(self.readback);
-                    let hair = self
-                        .prepared
-                        .objects
-                        .iter()
-                        .map(|o| renderer.upload_hair(ctx, &o.asset))
-                        .collect::<Result<_, _>>()?;
-                    self.strands = Some(StrandPath { renderer, hair });
+                    self.strands = Some(StrandTechnique::new(
+                        ctx,
+                        self.formats,
+                        &self.prepared,
+                        self.readback,
+                    )?);
                 }
                 if let Some(s) = &mut self.strands {
                     s.renderer.set_technique(self.technique)?;
@@ -566,14 +528,13 @@ impl Session {
     /// How GPU statistics are read back from now on.
     pub fn set_stats_readback(&mut self, mode: StatsReadback) {
         self.readback = mode;
-        if let Some(s) = &mut self.strands {
-            s.renderer.set_stats_readback(mode);
-        }
-        if let Some(p) = &mut self.patches {
-            p.renderer.set_stats_readback(mode);
-        }
-        if let Some(s) = &mut self.satf {
-            s.renderer.set_stats_readback(mode);
+        let prepared: [Option<&mut dyn Technique>; 3] = [
+            self.strands.as_mut().map(|t| t as &mut dyn Technique),
+            self.patches.as_mut().map(|t| t as &mut dyn Technique),
+            self.satf.as_mut().map(|t| t as &mut dyn Technique),
+        ];
+        for t in prepared.into_iter().flatten() {
+            t.set_stats_readback(mode);
         }
     }
 
@@ -587,115 +548,31 @@ impl Session {
         lights: Option<&[DirectionalLight]>,
     ) -> Result<SessionFrame, RenderError> {
         self.prepare(ctx)?;
-        let lights = lights.unwrap_or(&self.prepared.lights);
-        let clear = self.prepared.clear_color();
-        let ambient = Vec3::splat(AMBIENT);
-        let head = self.head.as_ref();
-        let head_bytes = head.map_or(0, HeadGeometry::bytes);
-        let visible = self.hair_visible;
-        let start = Instant::now();
-        let (timings, memory, detail) = match self.technique {
-            TechniqueKind::Patches => {
-                let p = self.patches.as_mut().ok_or_else(|| invalid("no patches"))?;
-                let stats = p.renderer.render(
-                    ctx,
-                    targets,
-                    &PatchFrameInputs {
-                        camera: *camera,
-                        lights,
-                        ambient,
-                        head_color: self.prepared.material.head_color,
-                        patches: visible.then_some(&p.geometry),
-                        head,
-                        clear,
-                    },
-                )?;
-                let memory = Memory {
-                    geometry: p.geometry.bytes() + head_bytes,
-                    textures: p.renderer.texture_bytes(),
-                    ..Memory::default()
-                };
-                (stats.timings.clone(), memory, FrameDetail::Patches(stats))
-            }
-            TechniqueKind::Satf => {
-                let s = self.satf.as_mut().ok_or_else(|| invalid("no SATF"))?;
-                let stats = s.renderer.render(
-                    ctx,
-                    targets,
-                    &SatfFrameInputs {
-                        camera: *camera,
-                        lights,
-                        ambient,
-                        head_color: self.prepared.material.head_color,
-                        clusters: visible.then_some(&s.geometry),
-                        database: &s.database,
-                        head,
-                        clear,
-                    },
-                )?;
-                let memory = Memory {
-                    geometry: s.geometry.buffer_bytes() + head_bytes,
-                    textures: s.geometry.atlas_bytes(),
-                    shadow_maps: s.renderer.shadow_bytes(),
-                    database: s.database.bytes(),
-                    ..Memory::default()
-                };
-                (
-                    stats.gpu_frame.map(|_| stats.timings.clone()),
-                    memory,
-                    FrameDetail::Satf(stats),
-                )
-            }
-            _ => {
-                let s = self.strands.as_mut().ok_or_else(|| invalid("no strands"))?;
-                let objects: Vec<HairObject<'_>> = if visible {
-                    s.hair
-                        .iter()
-                        .zip(&self.prepared.objects)
-                        .map(|(hair, o)| HairObject {
-                            hair,
-                            material: o.material,
-                            technique: o.technique,
-                        })
-                        .collect()
-                } else {
-                    Vec::new()
-                };
-                let stats = s.renderer.render(
-                    ctx,
-                    targets,
-                    &FrameInputs {
-                        camera: *camera,
-                        lights,
-                        ambient,
-                        material: self.prepared.material,
-                        hair: None,
-                        head,
-                        clear,
-                        objects: &objects,
-                    },
-                )?;
-                // What this frame's technique uses: the raymarcher alone needs no OIT and no
-                // shadow maps (the renderer keeps those of techniques drawn before).
-                let raster = if stats.objects.is_empty() {
-                    self.technique != TechniqueKind::Volume
-                } else {
-                    stats
-                        .objects
-                        .iter()
-                        .any(|o| o.technique != TechniqueKind::Volume)
-                };
-                let memory = Memory {
-                    geometry: s.hair.iter().map(StrandGeometry::bytes).sum::<u64>() + head_bytes,
-                    oit: stats.oit.map_or(0, |(_, bytes)| bytes),
-                    volumes: stats.volume.map_or(0, |v| v.bytes),
-                    shadow_maps: if raster { s.renderer.shadow_bytes() } else { 0 },
-                    ..Memory::default()
-                };
-                let timings = stats.gpu.as_ref().map(|g| g.timings.clone());
-                (timings, memory, FrameDetail::Strands(stats))
-            }
+        let kind = self.technique;
+        let frame = SharedFrame {
+            camera: *camera,
+            lights: lights.unwrap_or(&self.prepared.lights),
+            ambient: Vec3::splat(AMBIENT),
+            head: self.head.as_ref(),
+            clear: self.prepared.clear_color(),
+            prepared: &self.prepared,
+            hair_visible: self.hair_visible,
+            kind,
         };
+        let technique: Option<&mut dyn Technique> = match kind {
+            TechniqueKind::Patches => self.patches.as_mut().map(|t| t as &mut dyn Technique),
+            TechniqueKind::Satf => self.satf.as_mut().map(|t| t as &mut dyn Technique),
+            _ => self.strands.as_mut().map(|t| t as &mut dyn Technique),
+        };
+        let technique =
+            technique.ok_or_else(|| invalid(format!("the {kind} technique is not prepared")))?;
+        let start = Instant::now();
+        let result = technique.draw(ctx, targets, &frame);
+        let TechniqueFrame {
+            timings,
+            memory,
+            detail,
+        } = result?;
         Ok(SessionFrame {
             technique: self.technique.name(),
             size: [camera.viewport[0], camera.viewport[1]],
@@ -714,15 +591,4 @@ fn is_light_key(key: &str) -> bool {
         root,
         "strands" | "volume" | "hybrid" | "light" | "lights" | "background"
     ) || (root == "hair" && key.contains(".material."))
-}
-
-/// Push a prepared scene's strand, volume and hybrid settings into a renderer.
-fn apply_strand_settings(
-    ctx: &GpuContext,
-    renderer: &mut Renderer,
-    prepared: &PreparedScene,
-) -> Result<(), RenderError> {
-    renderer.set_settings(ctx, prepared.strands.clone())?;
-    renderer.set_volume_settings(ctx, prepared.volume.clone())?;
-    renderer.set_hybrid_settings(prepared.hybrid.clone())
 }
