@@ -10,7 +10,8 @@
 //! write for the same camera.
 //!
 //! Controls: left drag orbits about the camera target, middle drag pans, the wheel zooms. Keys:
-//! T the next technique ([`tress_render::session::TECHNIQUES`] order), L rotates the lights
+//! T the next technique ([`tress_render::session::TechniqueKind::NAMES`] order: the five, then
+//! `auto`), L rotates the lights
 //! about the up axis, S saves `tress-view-NNNN.png`, R reloads the shaders (see below), U
 //! hides the panel, Q or Esc quits. Files dropped on the window, or named in the panel's Open
 //! field, are opened as a new session.

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 
 use egui::{Color32, RichText, Ui};
 use tress_render::Timings;
-use tress_render::session::{Memory, Session, TECHNIQUES};
+use tress_render::session::{Memory, Session, TechniqueKind};
 
 mod form;
 mod settings;
@@ -27,7 +27,7 @@ pub(crate) enum Action {
     Set(String),
     /// Switch technique.
     Technique(&'static str),
-    /// Switch to the next technique in [`TECHNIQUES`] order that can draw (the T key).
+    /// Switch to the next technique in [`TechniqueKind::NAMES`] order that can draw (the T key).
     NextTechnique,
     /// Open files (a scene, hair files or a card OBJ) as a new session.
     Open(Vec<PathBuf>),
@@ -130,7 +130,7 @@ fn header(ui: &mut Ui, view: &View<'_>, state: &mut PanelState, actions: &mut Ve
     egui::ComboBox::new("technique", "technique (T)")
         .selected_text(current)
         .show_ui(ui, |ui| {
-            for t in TECHNIQUES {
+            for t in TechniqueKind::NAMES {
                 if ui.selectable_label(t == current, t).clicked() && t != current {
                     actions.push(Action::Technique(t));
                 }

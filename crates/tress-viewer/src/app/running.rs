@@ -8,7 +8,10 @@ use std::time::Instant;
 
 use anyhow::{Result, anyhow};
 use glam::Quat;
-use tress_render::session::{FrameDetail, Session, SessionOptions, TECHNIQUES};
+use tress_render::session::{FrameDetail, Session, SessionOptions, TechniqueKind};
+
+/// The techniques the viewer switches between, in order: the five, then `auto`.
+const TECHNIQUES: [&str; 6] = TechniqueKind::NAMES;
 use tress_render::{
     COLOR_FORMAT, DirectionalLight, OffscreenTargets, StatsReadback, TargetFormats, read_texture,
 };

@@ -26,11 +26,11 @@ pub(super) fn settings(
             .default_open(open)
             .open(switched.then_some(open))
     };
-    section("strands", &["strands", "hybrid"])
+    section("strands", &["strands", "hybrid", "auto"])
         .show(ui, |ui| strand_settings(ui, &prepared.strands, form));
-    section("volume", &["volume", "hybrid"])
+    section("volume", &["volume", "hybrid", "auto"])
         .show(ui, |ui| volume_settings(ui, &prepared.volume, form));
-    section("hybrid", &["hybrid"]).show(ui, |ui| {
+    section("hybrid", &["hybrid", "auto"]).show(ui, |ui| {
         let h = &prepared.hybrid;
         let mut fixed = h.lod.is_some();
         if ui
@@ -54,6 +54,20 @@ pub(super) fn settings(
             "hybrid.transition",
             h.transition.name(),
             &["alpha", "dither"],
+        );
+        form.float(
+            ui,
+            "hybrid.auto_near_px",
+            h.auto_near_px,
+            0.0..=4000.0,
+            Apply::Live,
+        );
+        form.float(
+            ui,
+            "hybrid.auto_far_px",
+            h.auto_far_px,
+            0.0..=4000.0,
+            Apply::Live,
         );
         if let Some(f) = frame.filter(|f| f.technique == "hybrid") {
             ui.label(&f.detail);
