@@ -8,13 +8,13 @@
 
 use crate::bind::Layouts;
 use crate::gpu::types::{FiberCache, MaterialUniform, StrandParams, VolumeParams};
+use crate::gpu::uniform_buffer;
 use crate::hybrid::{FramePlan, TechniqueKind};
 use crate::strands::StrandGeometry;
 use crate::volume::{VolumeBinding, Voxelizer};
 use crate::{GpuContext, Material, RenderError};
 
 use super::Renderer;
-use super::setup::uniform_buffer;
 
 /// Most heads of hair one frame draws (each has its uniforms, its timestamps and, when
 /// voxelized, its volume).

@@ -1,12 +1,10 @@
 //! The [`Renderer`]'s construction and settings: pipelines, uniforms, the lighting bind group
 //! (lights, material, shadow maps, the hair volume), techniques. A frame itself is in `renderer.rs`.
 
-use wgpu::util::DeviceExt;
-
 use super::{PASS_NAMES, Renderer};
 use crate::bind::Layouts;
 use crate::gpu::types::{CameraUniform, LightsUniform};
-use crate::gpu::{GpuTimer, TargetFormats};
+use crate::gpu::{GpuTimer, TargetFormats, uniform_buffer};
 use crate::head::HeadPass;
 use crate::hybrid::{HybridSettings, LodBlend, TechniqueKind, check_technique};
 use crate::stats::{ReadbackRing, StatsReadback};
@@ -14,19 +12,6 @@ use crate::strands::oit::StrandOit;
 use crate::strands::{ShadowMap, StrandGeometry, StrandSettings};
 use crate::volume::{Raymarch, VolumeBinding, VolumeSettings, Voxelizer, volume_resources};
 use crate::{GpuContext, MAX_LIGHTS, RenderError};
-
-pub(super) fn uniform_buffer<T: bytemuck::Pod>(
-    ctx: &GpuContext,
-    label: &str,
-    value: &T,
-) -> wgpu::Buffer {
-    ctx.device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents: bytemuck::bytes_of(value),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        })
-}
 
 impl Renderer {
     /// Build the pipelines for targets of `formats`, with `settings` (validated).
