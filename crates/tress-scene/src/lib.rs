@@ -36,6 +36,7 @@
 #![doc = concat!("```toml\n", include_str!("../doc/hair.toml"), "```")]
 
 mod error;
+mod follow;
 mod material;
 mod overrides;
 mod parts;
