@@ -47,6 +47,7 @@ mod inputs;
 pub mod patches;
 pub mod satf;
 pub mod scene_setup;
+mod services;
 pub mod session;
 pub mod shaders;
 mod stats;

@@ -19,7 +19,7 @@ pub use readback::{
 };
 pub use target::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTargets, TargetFormats, Targets};
 pub(crate) use target::{clear_loads, screen_layer};
-pub(crate) use timer::GpuTimer;
+pub(crate) use timer::{FrameEncoder, GpuTimer, TimerMode};
 pub use timer::{PassTiming, Timings};
 
 /// A uniform buffer holding `value`, writable by the queue.

@@ -1,11 +1,11 @@
 //! GPU timestamp queries: one begin/end pair per named pass, written through the passes'
 //! `timestamp_writes` when the device has `TIMESTAMP_QUERY`.
 
-use std::cell::Cell;
-
+use std::cell::{Cell, RefCell};
 use std::fmt;
+use std::time::Instant;
 
-use crate::GpuContext;
+use crate::{GpuContext, RenderError};
 
 /// GPU time of one pass.
 #[derive(Clone, Debug, PartialEq)]
@@ -61,7 +61,19 @@ impl fmt::Display for Timings {
     }
 }
 
-/// A query set with two timestamps per pass and the buffer they resolve into.
+/// How a [`GpuTimer`] times a frame's passes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum TimerMode {
+    /// Timestamp queries written by the passes themselves (when the device has them).
+    Timestamps,
+    /// Each stage submitted alone and waited for ([`FrameEncoder::cut`]): CPU wall-clock
+    /// milliseconds, for devices whose timestamps are not trustworthy. The passes write no
+    /// timestamps.
+    WallClock,
+}
+
+/// A query set with two timestamps per pass and the buffer they resolve into, or, in
+/// [`TimerMode::WallClock`], the wall-clock time of each stage cut by a [`FrameEncoder`].
 ///
 /// Passes are named (`names`); a frame that draws several objects (heads of hair) times a pass
 /// once for the frame ([`GpuTimer::render_writes`]) or once per object
@@ -79,6 +91,10 @@ pub(crate) struct GpuTimer {
     /// Slots in use this frame (the frame's and those of the objects timed so far).
     used: Cell<usize>,
     period_ns: f64,
+    mode: TimerMode,
+    /// Wall-clock mode: when the current stage began, and the stages timed this frame.
+    wall_start: Cell<Option<Instant>>,
+    wall_times: RefCell<Vec<PassTiming>>,
 }
 
 impl GpuTimer {
@@ -90,10 +106,6 @@ impl GpuTimer {
     /// Objects this timer times on their own.
     pub(crate) fn objects(&self) -> usize {
         self.objects
-    }
-
-    pub(crate) fn new(ctx: &GpuContext, label: &str, names: &'static [&'static str]) -> Self {
-        Self::with_objects(ctx, label, names, 0)
     }
 
     /// A timer that also times up to `objects` objects' passes each on their own.
@@ -126,13 +138,44 @@ impl GpuTimer {
             written: vec![Cell::new(false); names.len() * slots],
             used: Cell::new(1),
             period_ns: f64::from(ctx.queue.get_timestamp_period()),
+            mode: TimerMode::Timestamps,
+            wall_start: Cell::new(None),
+            wall_times: RefCell::new(Vec::new()),
         }
     }
 
-    /// Forget which passes were written (call at the start of a frame).
-    pub(crate) fn begin_frame(&self) {
+    /// Time the passes with timestamps or by wall clock from the next frame on.
+    pub(crate) fn set_mode(&mut self, mode: TimerMode) {
+        self.mode = mode;
+    }
+
+    /// Forget which passes were written (call at the start of a frame). In wall-clock mode,
+    /// wait for earlier work first, so it does not count toward the first stage.
+    pub(crate) fn begin_frame(&self, ctx: &GpuContext) -> Result<(), RenderError> {
         self.written.iter().for_each(|w| w.set(false));
         self.used.set(1);
+        self.wall_times.borrow_mut().clear();
+        if self.mode == TimerMode::WallClock {
+            ctx.wait_idle()?;
+            self.wall_start.set(Some(Instant::now()));
+        }
+        Ok(())
+    }
+
+    /// In wall-clock mode, the stages timed this frame (`None` in timestamp mode).
+    pub(crate) fn wall_timings(&self) -> Option<Timings> {
+        (self.mode == TimerMode::WallClock)
+            .then(|| Timings::Passes(self.wall_times.borrow().clone()))
+    }
+
+    /// Record the end of wall-clock stage `name` (the work before it has finished).
+    fn end_wall_stage(&self, name: &'static str) {
+        let now = Instant::now();
+        let start = self.wall_start.replace(Some(now)).unwrap_or(now);
+        self.wall_times.borrow_mut().push(PassTiming {
+            name,
+            ms: (now - start).as_secs_f64() * 1e3,
+        });
     }
 
     /// The pass's index over all slots: `name` in slot 0 (the frame) or in object `object`'s.
@@ -212,7 +255,7 @@ impl GpuTimer {
     ) -> Option<(&wgpu::QuerySet, Option<u32>, Option<u32>)> {
         // A pass between the first and the last of a timed run writes nothing (wgpu rejects
         // timestamp writes with neither index: a scene with three lights failed every frame).
-        if !(begin || end) {
+        if !(begin || end) || self.mode == TimerMode::WallClock {
             return None;
         }
         let (set, _) = self.queries.as_ref()?;
@@ -330,6 +373,50 @@ impl GpuTimer {
                 )
             })
             .collect()
+    }
+}
+
+/// A frame's command encoder. In [`TimerMode::WallClock`], [`FrameEncoder::cut`] ends a stage:
+/// it submits what was recorded, waits for it and records the stage's wall-clock time; with
+/// timestamps it does nothing, and the frame is one submission.
+pub(crate) struct FrameEncoder<'a> {
+    ctx: &'a GpuContext,
+    timer: &'a GpuTimer,
+    label: &'static str,
+    /// The encoder the current stage records into.
+    pub(crate) encoder: wgpu::CommandEncoder,
+}
+
+impl<'a> FrameEncoder<'a> {
+    pub(crate) fn new(ctx: &'a GpuContext, timer: &'a GpuTimer, label: &'static str) -> Self {
+        FrameEncoder {
+            ctx,
+            timer,
+            label,
+            encoder: Self::encoder(ctx, label),
+        }
+    }
+
+    fn encoder(ctx: &GpuContext, label: &str) -> wgpu::CommandEncoder {
+        ctx.device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) })
+    }
+
+    /// End stage `name` (wall-clock mode: submit, wait, record its time).
+    pub(crate) fn cut(&mut self, name: &'static str) -> Result<(), RenderError> {
+        if self.timer.mode != TimerMode::WallClock {
+            return Ok(());
+        }
+        let done = std::mem::replace(&mut self.encoder, Self::encoder(self.ctx, self.label));
+        self.ctx.queue.submit([done.finish()]);
+        self.ctx.wait_idle()?;
+        self.timer.end_wall_stage(name);
+        Ok(())
+    }
+
+    /// The encoder of the frame's last stage (its submission is the caller's).
+    pub(crate) fn into_encoder(self) -> wgpu::CommandEncoder {
+        self.encoder
     }
 }
 

@@ -50,7 +50,8 @@ use crate::hybrid::{
     FramePlan, HybridSettings, LodBlend, LodLayers, TechniqueKind, check_technique,
 };
 use crate::inputs::{frame_sphere, lights_uniform};
-use crate::stats::{FrameStats, ObjectFrame, ReadbackRing, SlotInfo, StatsReadback, VolumeFrame};
+use crate::services::{FrameServices, FrameTicket};
+use crate::stats::{FrameStats, ObjectFrame, SlotInfo, StatsReadback, VolumeFrame};
 use crate::strands::oit::{OitInputs, OitPart, StrandOit};
 use crate::strands::{
     PpllPool, ShadowCasters, ShadowMap, StrandGeometry, StrandSettings, ThicknessFade,
@@ -120,25 +121,19 @@ pub struct Renderer {
     lod_blend: LodBlend,
     layers: Option<LodLayers>,
     layouts: Layouts,
-    camera: wgpu::Buffer,
-    lights: wgpu::Buffer,
     /// Object `i`'s uniforms and bind groups (slot 0 always exists: the head's).
     slots: Vec<ObjectSlot>,
     shadow: ShadowMap,
     head_pass: HeadPass,
     oit: StrandOit,
-    timer: GpuTimer,
-    ring: ReadbackRing,
-    stats_readback: StatsReadback,
+    services: FrameServices,
     /// Objects already warned about their volume not fitting the budget.
     warned: Vec<bool>,
-    frame: u64,
 }
 
 /// What one submitted frame was: its index, readback slot, plans and OIT.
 struct Submitted {
-    frame: u64,
-    slot: Option<usize>,
+    ticket: FrameTicket,
     plans: Vec<FramePlan>,
     oit: Option<OitFrame>,
 }
@@ -184,7 +179,7 @@ impl Renderer {
         }
 
         // ---- results of earlier frames: statistics, pool growth, OIT choice
-        let mut report = self.ring.harvest(ctx, &self.timer)?;
+        let mut report = self.services.harvest(ctx)?;
         if let Some(r) = &report {
             self.oit.learn(ctx, &self.settings, r);
         }
@@ -200,15 +195,15 @@ impl Renderer {
                 _ => (0, 0),
             };
             let mut retry = false;
-            if let (StatsReadback::Wait, Some(i)) = (self.stats_readback, sub.slot) {
-                report = self.ring.wait(ctx, &self.timer, i)?.or(report);
-                if let Some(r) = report.as_ref().filter(|r| r.frame == sub.frame) {
+            if let (StatsReadback::Wait, Some(_)) = (self.services.readback, sub.ticket.slot) {
+                report = self.services.results(ctx, sub.ticket, None)?.or(report);
+                if let Some(r) = report.as_ref().filter(|r| r.frame == sub.ticket.frame) {
                     retry = self.oit.learn(ctx, &self.settings, r);
                 }
             }
             if retry && inputs.clear.is_some() && attempts < MAX_ATTEMPTS {
                 tracing::debug!(
-                    frame = sub.frame,
+                    frame = sub.ticket.frame,
                     "fragments were lost or mostly unsorted: rendering the frame again"
                 );
                 continue;
@@ -257,7 +252,7 @@ impl Renderer {
             })
             .collect();
         FrameStats {
-            frame: sub.frame,
+            frame: sub.ticket.frame,
             size,
             segments: hair
                 .iter()
@@ -341,13 +336,7 @@ impl Renderer {
         base.target_width = size[0];
         base.target_height = size[1];
         base.light_count = lights.count;
-        let q = &ctx.queue;
-        q.write_buffer(
-            &self.camera,
-            0,
-            bytemuck::bytes_of(&inputs.camera.uniform()),
-        );
-        q.write_buffer(&self.lights, 0, bytemuck::bytes_of(&lights));
+        self.services.write_view(ctx, &inputs.camera, &lights);
         for (i, (d, &(unfiltered, ..))) in drawn.iter().zip(&hair).enumerate() {
             // The width of a shadow-map line in the volume's ADSM model: of the frame's maps
             // where they shade this head of hair, else of maps framing it alone.
@@ -358,9 +347,7 @@ impl Renderer {
             self.write_object_uniforms(ctx, i, d, unfiltered, base, &inputs.camera, radius);
         }
 
-        let frame = self.frame;
-        self.frame += 1;
-        let slot = self.ring.idle();
+        let ticket = self.services.begin(ctx)?;
         let adsm = drawn
             .iter()
             .any(|d| d.plan.shadows && d.plan.shadow_mode == ShadowMode::Adsm)
@@ -371,15 +358,14 @@ impl Renderer {
             .filter(|d| d.plan.strands)
             .filter_map(|d| d.hair)
             .collect();
-        let timer = &mut self.timer;
+        let timer = &self.services.timer;
         let (shadow, head_pass, strand_oit) = (&self.shadow, &self.head_pass, &self.oit);
         let shadow_width_px = self.settings.shadow_width_px;
         let (raymarch, lod_blend, layers) = (&self.raymarch, &self.lod_blend, &self.layers);
         let voxelizer = self.voxelizer.as_ref();
         let slots = &self.slots;
-        let ring = &mut self.ring;
+        let ring = &mut self.services.ring;
         ctx.scoped("rendering a frame", || {
-            timer.begin_frame();
             let mut encoder = ctx
                 .device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -506,36 +492,28 @@ impl Renderer {
                     strand_oit.encode(ctx, &mut encoder, kind, &inputs, timer);
                 }
             }
-            // ---- statistics readback
-            if let Some(i) = slot {
-                let ppll = oit_kind == Some(crate::strands::OitKind::Ppll);
-                let info = SlotInfo {
-                    frame,
-                    capacity: if ppll { strand_oit.ppll_capacity() } else { 0 },
-                    head_bytes: if ppll { PpllPool::head_bytes(size) } else { 0 },
-                    oit,
-                    satf: false,
-                    objects: drawn.len(),
-                };
-                let counters = oit_kind.and_then(|k| strand_oit.counters(k));
-                ring.record(i, &mut encoder, counters, timer, info);
-                if let Some(v) = voxelizer {
-                    for (o, _) in drawn.iter().enumerate().filter(|(_, d)| d.plan.voxelize) {
-                        if let Some(stats) = v.stats_buffer(o) {
-                            ring.record_volume(i, &mut encoder, o, stats);
-                        }
-                    }
-                }
-            }
-            ctx.queue.submit([encoder.finish()]);
-            if let Some(i) = slot {
-                ring.map(i);
-            }
+            // ---- statistics readback: the OIT's counters, each volume's, the timestamps
+            let ppll = oit_kind == Some(crate::strands::OitKind::Ppll);
+            let info = SlotInfo {
+                frame: ticket.frame,
+                capacity: if ppll { strand_oit.ppll_capacity() } else { 0 },
+                head_bytes: if ppll { PpllPool::head_bytes(size) } else { 0 },
+                oit,
+                satf: false,
+                objects: drawn.len(),
+            };
+            let counters = oit_kind.and_then(|k| strand_oit.counters(k));
+            let volumes: Vec<(usize, &wgpu::Buffer)> = voxelizer.map_or_else(Vec::new, |v| {
+                (0..drawn.len())
+                    .filter(|&o| drawn[o].plan.voxelize)
+                    .filter_map(|o| Some((o, v.stats_buffer(o)?)))
+                    .collect()
+            });
+            ticket.submit(ctx, (ring, timer), encoder, counters, &volumes, info);
         })?;
 
         Ok(Submitted {
-            frame,
-            slot,
+            ticket,
             plans: drawn.iter().map(|d| d.plan).collect(),
             oit,
         })

@@ -19,10 +19,11 @@ use super::{
     PASS_NAMES, PatchGeometry, PatchHead, PatchLayouts, PatchSettings, PatchShade, PatchTextures,
     RenderScheme, TextureSlot, ZPrime,
 };
-use crate::gpu::types::{CameraUniform, FiberCache, LightsUniform, PatchParamsGpu};
-use crate::gpu::{GpuTimer, TargetFormats, Targets, Timings, clear_loads, uniform_buffer};
+use crate::gpu::types::{FiberCache, PatchParamsGpu};
+use crate::gpu::{TargetFormats, Targets, Timings, clear_loads, uniform_buffer};
 use crate::head::HeadGeometry;
-use crate::stats::{ReadbackRing, SlotInfo, StatsReadback};
+use crate::services::FrameServices;
+use crate::stats::{SlotInfo, StatsReadback};
 use crate::{Camera, DirectionalLight, GpuContext, RenderError};
 
 /// Everything a patch frame draws. Plain data: the application owns geometry and targets.
@@ -68,8 +69,6 @@ pub struct PatchRenderer {
     formats: TargetFormats,
     settings: PatchSettings,
     layouts: PatchLayouts,
-    camera: wgpu::Buffer,
-    lights: wgpu::Buffer,
     head_color: wgpu::Buffer,
     patch_params: wgpu::Buffer,
     view_group: wgpu::BindGroup,
@@ -81,10 +80,7 @@ pub struct PatchRenderer {
     head: PatchHead,
     z_prime: ZPrime,
     shade: PatchShade,
-    timer: GpuTimer,
-    ring: ReadbackRing,
-    stats_readback: StatsReadback,
-    frame: u64,
+    services: FrameServices,
     /// The fibre's uniform (filled only while the patches shade with Marschner).
     fiber: FiberCache,
 }
@@ -130,10 +126,10 @@ impl PatchRenderer {
             PatchLayouts::new(&ctx.device)
         })?;
         let textures = PatchTextures::new(ctx, &textures_cpu, settings.mipmaps)?;
-        let (camera, lights, head_color, patch_params) = ctx.scoped("creating uniforms", || {
+        let services = FrameServices::new(ctx, "patches", PASS_NAMES, 0)?;
+        let (camera, lights) = (&services.camera, &services.lights);
+        let (head_color, patch_params) = ctx.scoped("creating uniforms", || {
             (
-                uniform_buffer(ctx, "patches/uniforms/camera", &CameraUniform::default()),
-                uniform_buffer(ctx, "patches/uniforms/lights", &LightsUniform::default()),
                 uniform_buffer(ctx, "patches/uniforms/head-color", &[0.0f32; 4]),
                 uniform_buffer(ctx, "patches/uniforms/params", &settings.params()),
             )
@@ -165,8 +161,6 @@ impl PatchRenderer {
         })?;
         let material_group =
             Self::material_group(ctx, &layouts.material, &patch_params, &textures)?;
-        let timer = GpuTimer::new(ctx, "patches", PASS_NAMES);
-        let ring = ReadbackRing::new(ctx, &timer, 3);
         Ok(PatchRenderer {
             head: PatchHead::new(ctx, &layouts.view, &layouts.lights, formats.color)?,
             z_prime: ZPrime::new(ctx, &layouts, formats.color)?,
@@ -174,8 +168,6 @@ impl PatchRenderer {
             formats,
             settings,
             layouts,
-            camera,
-            lights,
             head_color,
             patch_params,
             view_group,
@@ -184,10 +176,7 @@ impl PatchRenderer {
             textures_given,
             textures,
             material_group,
-            timer,
-            ring,
-            stats_readback: StatsReadback::Wait,
-            frame: 0,
+            services,
             fiber: FiberCache::default(),
         })
     }
@@ -300,7 +289,7 @@ impl PatchRenderer {
 
     /// How `render` reports GPU times (default [`StatsReadback::Wait`]).
     pub fn set_stats_readback(&mut self, mode: StatsReadback) {
-        self.stats_readback = mode;
+        self.services.readback = mode;
     }
 
     /// This frame's patch uniform: the settings' constants, and under Marschner shading the
@@ -332,34 +321,23 @@ impl PatchRenderer {
         // Patches cast no shadows: the lights carry no shadow transform.
         let (lights, _) = crate::inputs::lights_uniform(inputs.ambient, inputs.lights, None)?;
         let head_color = inputs.head_color.extend(1.0).to_array();
+        self.services.write_view(ctx, &inputs.camera, &lights);
         let q = &ctx.queue;
-        q.write_buffer(
-            &self.camera,
-            0,
-            bytemuck::bytes_of(&inputs.camera.uniform()),
-        );
-        q.write_buffer(&self.lights, 0, bytemuck::bytes_of(&lights));
         q.write_buffer(&self.head_color, 0, bytemuck::bytes_of(&head_color));
         let params = self.params();
         q.write_buffer(&self.patch_params, 0, bytemuck::bytes_of(&params));
 
-        let frame = self.frame;
-        self.frame += 1;
         // Deferred: the newest earlier frame's results, read before this one is submitted.
-        let earlier = match self.stats_readback {
-            StatsReadback::Deferred => self.ring.harvest(ctx, &self.timer)?,
-            StatsReadback::Wait => None,
-        };
-        let slot = self.ring.idle();
+        let earlier = self.services.earlier(ctx)?;
+        let ticket = self.services.begin(ctx)?;
         let scheme = self.settings.scheme;
         let patches = inputs.patches.filter(|p| p.triangle_count() > 0);
-        let timer = &mut self.timer;
-        let ring = &mut self.ring;
+        let services = &mut self.services;
         let (view, lighting, material) =
             (&self.view_group, &self.lights_group, &self.material_group);
         let (head_pass, z_prime, shade) = (&self.head, &self.z_prime, &self.shade);
         ctx.scoped("rendering a patch frame", || {
-            timer.begin_frame();
+            let timer = &services.timer;
             let mut encoder = ctx
                 .device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -401,22 +379,13 @@ impl PatchRenderer {
                 }
             }
             // ---- timestamps readback
-            if let Some(i) = slot {
-                ring.record(i, &mut encoder, None, timer, SlotInfo::without_oit(frame));
-            }
-            ctx.queue.submit([encoder.finish()]);
-            if let Some(i) = slot {
-                ring.map(i);
-            }
+            let info = SlotInfo::without_oit(ticket.frame);
+            ticket.submit(ctx, (&mut services.ring, timer), encoder, None, &[], info);
         })?;
 
-        let report = match (self.stats_readback, slot) {
-            (StatsReadback::Wait, Some(i)) => self.ring.wait(ctx, &self.timer, i)?,
-            (StatsReadback::Wait, None) => self.ring.harvest(ctx, &self.timer)?,
-            (StatsReadback::Deferred, _) => earlier,
-        };
+        let report = self.services.results(ctx, ticket, earlier)?;
         Ok(PatchFrameStats {
-            frame,
+            frame: ticket.frame,
             size,
             triangles: patches.map_or(0, |p| p.triangle_count()),
             scheme,

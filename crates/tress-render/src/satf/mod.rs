@@ -180,6 +180,16 @@ pub enum StageTiming {
     WallClock,
 }
 
+impl StageTiming {
+    /// The frame timer's mode that times the stages this way.
+    pub(crate) fn timer_mode(self) -> crate::gpu::TimerMode {
+        match self {
+            StageTiming::Timestamps => crate::gpu::TimerMode::Timestamps,
+            StageTiming::WallClock => crate::gpu::TimerMode::WallClock,
+        }
+    }
+}
+
 impl std::str::FromStr for StageTiming {
     type Err = RenderError;
     fn from_str(s: &str) -> Result<Self, RenderError> {

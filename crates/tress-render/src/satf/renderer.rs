@@ -14,8 +14,6 @@
 //!                    frame's, or the newest arrived with StatsReadback::Deferred)
 //! ```
 
-use std::time::Instant;
-
 use glam::Vec3;
 use tress_satf::SkippedStrands;
 use tress_satf::online::ShadowApprox;
@@ -24,14 +22,14 @@ use super::cluster_shadow::ShadowTargets;
 use super::index_calc::Uniforms;
 use super::{
     ClusterShadow, IndexCalc, Lighting, MapBuild, PASS_NAMES, Reflectance, SMaps, SatfDatabase,
-    SatfGeometry, SatfHead, SatfSettings, StageTiming, TextureMap,
+    SatfGeometry, SatfHead, SatfSettings, TextureMap,
 };
-use crate::gpu::GpuTimer;
-use crate::gpu::types::{CameraUniform, LightsUniform, SatfParams};
-use crate::gpu::{PassTiming, TargetFormats, Targets, Timings, clear_loads, uniform_buffer};
+use crate::gpu::types::SatfParams;
+use crate::gpu::{FrameEncoder, TargetFormats, Targets, Timings, clear_loads, uniform_buffer};
 use crate::head::HeadGeometry;
 use crate::inputs::{frame_sphere, lights_uniform};
-use crate::stats::{ReadbackRing, SlotInfo, StatsReadback};
+use crate::services::FrameServices;
+use crate::stats::{SlotInfo, StatsReadback};
 use crate::{Camera, DirectionalLight, GpuContext, RenderError};
 
 /// Everything a SATF frame draws. Plain data: the application owns geometry and targets.
@@ -101,63 +99,12 @@ impl SatfFrameStats {
     }
 }
 
-/// The frame's command encoder; with [`StageTiming::WallClock`] each stage is submitted alone
-/// and waited for, and its wall-clock time recorded.
-struct Stages<'a> {
-    ctx: &'a GpuContext,
-    encoder: wgpu::CommandEncoder,
-    wall: Option<(Instant, Vec<PassTiming>)>,
-}
-
-impl<'a> Stages<'a> {
-    fn new(ctx: &'a GpuContext, timing: StageTiming) -> Result<Self, RenderError> {
-        let wall = match timing {
-            StageTiming::Timestamps => None,
-            StageTiming::WallClock => {
-                // Earlier work must not count toward the first stage.
-                ctx.wait_idle()?;
-                Some((Instant::now(), Vec::new()))
-            }
-        };
-        Ok(Stages {
-            ctx,
-            encoder: Self::encoder(ctx),
-            wall,
-        })
-    }
-
-    fn encoder(ctx: &GpuContext) -> wgpu::CommandEncoder {
-        ctx.device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("satf/encoder"),
-            })
-    }
-
-    /// End stage `name`: with wall-clock timing, submit what was recorded, wait, and record it.
-    fn cut(&mut self, name: &'static str) -> Result<(), RenderError> {
-        let Some((start, times)) = &mut self.wall else {
-            return Ok(());
-        };
-        let done = std::mem::replace(&mut self.encoder, Self::encoder(self.ctx));
-        self.ctx.queue.submit([done.finish()]);
-        self.ctx.wait_idle()?;
-        let now = Instant::now();
-        times.push(PassTiming {
-            name,
-            ms: (now - *start).as_secs_f64() * 1e3,
-        });
-        *start = now;
-        Ok(())
-    }
-}
-
 /// The SATF online renderer: renders clusters and a head into caller-provided targets.
 #[derive(Debug)]
 pub struct SatfRenderer {
     formats: TargetFormats,
     settings: SatfSettings,
-    camera: wgpu::Buffer,
-    lights: wgpu::Buffer,
+    services: FrameServices,
     params: wgpu::Buffer,
     index_calc: IndexCalc,
     map_build: MapBuild,
@@ -167,10 +114,6 @@ pub struct SatfRenderer {
     lighting: Lighting,
     head: SatfHead,
     texture_map: TextureMap,
-    timer: GpuTimer,
-    ring: ReadbackRing,
-    stats_readback: StatsReadback,
-    frame: u64,
 }
 
 /// Cluster indices sorted back to front from `camera` by their bounding spheres' centres.
@@ -198,15 +141,11 @@ impl SatfRenderer {
         settings: SatfSettings,
     ) -> Result<Self, RenderError> {
         settings.validate()?;
-        let (camera, lights, params) = ctx.scoped("creating SATF uniforms", || {
-            (
-                uniform_buffer(ctx, "satf/uniforms/camera", &CameraUniform::default()),
-                uniform_buffer(ctx, "satf/uniforms/lights", &LightsUniform::default()),
-                uniform_buffer(ctx, "satf/uniforms/params", &SatfParams::default()),
-            )
+        let params = ctx.scoped("creating SATF uniforms", || {
+            uniform_buffer(ctx, "satf/uniforms/params", &SatfParams::default())
         })?;
-        let timer = GpuTimer::new(ctx, "satf", PASS_NAMES);
-        let ring = ReadbackRing::new(ctx, &timer, 3);
+        let mut services = FrameServices::new(ctx, "satf", PASS_NAMES, 0)?;
+        services.set_timer_mode(settings.stage_timing.timer_mode());
         Ok(SatfRenderer {
             formats,
             index_calc: IndexCalc::new(ctx)?,
@@ -217,22 +156,17 @@ impl SatfRenderer {
             lighting: Lighting::new(ctx)?,
             head: SatfHead::new(ctx, formats.color)?,
             texture_map: TextureMap::new(ctx, formats.color)?,
-            timer,
-            ring,
-            stats_readback: StatsReadback::Wait,
             settings,
-            camera,
-            lights,
+            services,
             params,
-            frame: 0,
         })
     }
 
     /// How `render` reports the GPU's counters and timings (default [`StatsReadback::Wait`]:
     /// wait for the frame; `Deferred` never blocks and reports the newest frame that arrived).
-    /// `stage_timing = "wall"` waits for every stage whatever this says.
+    /// `stage_timing = "wall_clock"` waits for every stage whatever this says.
     pub fn set_stats_readback(&mut self, mode: StatsReadback) {
-        self.stats_readback = mode;
+        self.services.readback = mode;
     }
 
     /// The current settings.
@@ -251,6 +185,8 @@ impl SatfRenderer {
         if settings.shadow_map_size != self.shadow_targets.size {
             self.shadow_targets = ShadowTargets::new(ctx, settings.shadow_map_size)?;
         }
+        self.services
+            .set_timer_mode(settings.stage_timing.timer_mode());
         self.settings = settings;
         Ok(())
     }
@@ -356,150 +292,113 @@ impl SatfRenderer {
         let order = geometry.map_or_else(Vec::new, |g| {
             back_to_front(&inputs.camera, &g.cluster_bounds)
         });
-        let q = &ctx.queue;
-        q.write_buffer(
-            &self.camera,
-            0,
-            bytemuck::bytes_of(&inputs.camera.uniform()),
-        );
-        q.write_buffer(&self.lights, 0, bytemuck::bytes_of(&lights));
-        q.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        self.services.write_view(ctx, &inputs.camera, &lights);
+        ctx.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
 
-        let frame = self.frame;
-        self.frame += 1;
         let shadows = params.cluster_shadows != 0 && geometry.is_some();
+        let earlier = self.services.earlier(ctx)?;
+        let ticket = self.services.begin(ctx)?;
+        let services = &mut self.services;
         let u = Uniforms {
-            camera: &self.camera,
-            lights: &self.lights,
+            camera: &services.camera,
+            lights: &services.lights,
             params: &self.params,
         };
-        let timer = &self.timer;
-        timer.begin_frame();
-        let timing = self.settings.stage_timing;
-        // Stages timed by wall clock write no timestamps.
-        let wall = timing == StageTiming::WallClock;
-        let render_ts = |name: &str, begin: bool, end: bool| {
-            if wall {
-                None
-            } else {
-                timer.render_writes(name, begin, end)
-            }
-        };
-        let compute_ts = |name: &str, begin: bool, end: bool| {
-            if wall {
-                None
-            } else {
-                timer.compute_writes(name, begin, end)
-            }
-        };
-        // Deferred: the newest earlier frame's results, read before this one is submitted (as
-        // the strands' frame does), so a deferred frame never reports itself.
-        let earlier = match self.stats_readback {
-            StatsReadback::Deferred => self.ring.harvest(ctx, &self.timer)?,
-            StatsReadback::Wait => None,
-        };
-        let ring = &mut self.ring;
-        let slot = ring.idle();
-        let wall_times =
-            ctx.scoped("rendering a SATF frame", || -> Result<_, RenderError> {
-                let mut stages = Stages::new(ctx, timing)?;
-                if let Some(g) = geometry {
-                    let encoder = &mut stages.encoder;
-                    // ---- index calculation (§6.2.1) and map construction (§6.2.2)
-                    let ts = compute_ts("satf/index_calculation", true, true);
-                    self.index_calc.encode(ctx, encoder, u, g, db, ts);
-                    stages.cut("satf/index_calculation")?;
-                    let ts = compute_ts("satf/map_construction", true, true);
-                    self.map_build
-                        .encode(ctx, &mut stages.encoder, u, g, db, ts);
-                    stages.cut("satf/map_construction")?;
-                    // ---- shadowing (§6.4): shadow maps between clusters, then s-maps
-                    let mut begun = false;
-                    if shadows {
-                        self.cluster_shadow.encode(
-                            ctx,
-                            &mut stages.encoder,
-                            &self.shadow_targets,
-                            &light_cameras,
-                            Some(g),
-                            inputs.head,
-                            |i, _| {
-                                begun = true;
-                                render_ts("satf/shadowing", i == 0, false)
-                            },
-                        );
-                    }
-                    let ts = compute_ts("satf/shadowing", !begun, true);
-                    self.s_maps
-                        .encode(ctx, &mut stages.encoder, u, g, &self.shadow_targets, ts);
-                    stages.cut("satf/shadowing")?;
-                    // ---- lighting (§6.3)
-                    let ts = compute_ts("satf/lighting", true, true);
-                    self.lighting.encode(ctx, &mut stages.encoder, u, g, ts);
-                    stages.cut("satf/lighting")?;
-                }
-                // ---- opaque head, depth written
-                {
-                    let mut pass = targets.begin_pass(
-                        &mut stages.encoder,
-                        "satf/head/pass",
-                        clear_loads(inputs.clear),
-                        render_ts("satf/head", true, true),
-                    );
-                    if let Some(head) = inputs.head {
-                        self.head.draw(
-                            ctx,
-                            &mut pass,
-                            [&self.camera, &self.lights, &self.params],
-                            &self.shadow_targets,
-                            head,
-                        );
-                    }
-                }
-                stages.cut("satf/head")?;
-                // ---- texture mapping, shading and blending (§6.5)
-                if let Some(g) = geometry {
-                    self.texture_map.encode(
+        let timer = &services.timer;
+        ctx.scoped("rendering a SATF frame", || -> Result<_, RenderError> {
+            let mut stages = FrameEncoder::new(ctx, timer, "satf/encoder");
+            if let Some(g) = geometry {
+                // ---- index calculation (§6.2.1) and map construction (§6.2.2)
+                let ts = timer.compute_writes("satf/index_calculation", true, true);
+                self.index_calc
+                    .encode(ctx, &mut stages.encoder, u, g, db, ts);
+                stages.cut("satf/index_calculation")?;
+                let ts = timer.compute_writes("satf/map_construction", true, true);
+                self.map_build
+                    .encode(ctx, &mut stages.encoder, u, g, db, ts);
+                stages.cut("satf/map_construction")?;
+                // ---- shadowing (§6.4): shadow maps between clusters, then s-maps
+                let mut begun = false;
+                if shadows {
+                    self.cluster_shadow.encode(
                         ctx,
                         &mut stages.encoder,
-                        &self.camera,
-                        &self.params,
-                        g,
-                        &order,
-                        targets,
-                        render_ts("satf/texture_mapping", true, true),
+                        &self.shadow_targets,
+                        &light_cameras,
+                        Some(g),
+                        inputs.head,
+                        |i, _| {
+                            begun = true;
+                            timer.render_writes("satf/shadowing", i == 0, false)
+                        },
                     );
-                    stages.cut("satf/texture_mapping")?;
                 }
-                // ---- statistics readback: the counters and the timestamps into a slot
-                if let Some(i) = slot {
-                    let info = SlotInfo {
-                        satf: geometry.is_some(),
-                        ..SlotInfo::without_oit(frame)
-                    };
-                    let counters = geometry.map(|g| &g.counters);
-                    ring.record(i, &mut stages.encoder, counters, timer, info);
+                let ts = timer.compute_writes("satf/shadowing", !begun, true);
+                self.s_maps
+                    .encode(ctx, &mut stages.encoder, u, g, &self.shadow_targets, ts);
+                stages.cut("satf/shadowing")?;
+                // ---- lighting (§6.3)
+                let ts = timer.compute_writes("satf/lighting", true, true);
+                self.lighting.encode(ctx, &mut stages.encoder, u, g, ts);
+                stages.cut("satf/lighting")?;
+            }
+            // ---- opaque head, depth written
+            {
+                let mut pass = targets.begin_pass(
+                    &mut stages.encoder,
+                    "satf/head/pass",
+                    clear_loads(inputs.clear),
+                    timer.render_writes("satf/head", true, true),
+                );
+                if let Some(head) = inputs.head {
+                    self.head.draw(
+                        ctx,
+                        &mut pass,
+                        [u.camera, u.lights, u.params],
+                        &self.shadow_targets,
+                        head,
+                    );
                 }
-                ctx.queue.submit([stages.encoder.finish()]);
-                if let Some(i) = slot {
-                    ring.map(i);
-                }
-                Ok(stages.wall.map(|(_, times)| times))
-            })??;
+            }
+            stages.cut("satf/head")?;
+            // ---- texture mapping, shading and blending (§6.5)
+            if let Some(g) = geometry {
+                self.texture_map.encode(
+                    ctx,
+                    &mut stages.encoder,
+                    u.camera,
+                    u.params,
+                    g,
+                    &order,
+                    targets,
+                    timer.render_writes("satf/texture_mapping", true, true),
+                );
+                stages.cut("satf/texture_mapping")?;
+            }
+            // ---- statistics readback: the counters and the timestamps
+            let info = SlotInfo {
+                satf: geometry.is_some(),
+                ..SlotInfo::without_oit(ticket.frame)
+            };
+            let counters = geometry.map(|g| &g.counters);
+            let encoder = stages.into_encoder();
+            ticket.submit(
+                ctx,
+                (&mut services.ring, timer),
+                encoder,
+                counters,
+                &[],
+                info,
+            );
+            Ok(())
+        })??;
 
         // ---- this frame's results (Wait), or the newest earlier one read above (Deferred)
-        let report = match (self.stats_readback, slot) {
-            (StatsReadback::Wait, Some(i)) => self.ring.wait(ctx, &self.timer, i)?,
-            (StatsReadback::Wait, None) => self.ring.harvest(ctx, &self.timer)?,
-            (StatsReadback::Deferred, _) => earlier,
-        };
+        let report = self.services.results(ctx, ticket, earlier)?;
         let counters = report.as_ref().and_then(|r| r.satf).unwrap_or_default();
-        let timings = match (wall_times, &report) {
-            (Some(times), _) => Timings::Passes(times),
-            (None, Some(r)) => r.timings.clone(),
-            (None, None) if ctx.caps.timestamps => Timings::Passes(Vec::new()),
-            (None, None) => Timings::NotSupported,
-        };
+        let timings = self.services.timings(ctx, report.as_ref());
+        let frame = ticket.frame;
         let l = geometry.map(|g| g.layout);
         Ok(SatfFrameStats {
             frame,

@@ -324,7 +324,7 @@ impl StrandOit {
         encoder: &mut wgpu::CommandEncoder,
         kind: OitKind,
         inputs: &OitInputs<'_>,
-        timer: &mut GpuTimer,
+        timer: &GpuTimer,
     ) {
         match kind {
             OitKind::Ppll => {

@@ -132,7 +132,7 @@ impl ShadowMap {
         &self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
-        timer: &mut crate::gpu::GpuTimer,
+        timer: &crate::gpu::GpuTimer,
         light_cameras: &[CameraUniform],
         casters: ShadowCasters<'_>,
     ) {

@@ -73,7 +73,7 @@ impl Renderer {
                 uniform_buffer(ctx, "volume/params", &VolumeParams::default()),
             )
         })?;
-        let view_group = view_group(ctx, &self.layouts, &self.camera, &params)?;
+        let view_group = view_group(ctx, &self.layouts, &self.services.camera, &params)?;
         let volume = self.voxelizer.as_ref().filter(|v| v.has_grid(index));
         let lighting_group = self.slot_lighting_group(ctx, index, &material, &volume_params)?;
         Ok(ObjectSlot {
@@ -104,7 +104,7 @@ impl Renderer {
         Self::lighting_group(
             ctx,
             &self.layouts,
-            &self.lights,
+            &self.services.lights,
             material,
             &self.shadow,
             VolumeBinding {

@@ -3,11 +3,11 @@
 
 use super::{PASS_NAMES, Renderer};
 use crate::bind::Layouts;
-use crate::gpu::types::{CameraUniform, LightsUniform};
-use crate::gpu::{GpuTimer, TargetFormats, uniform_buffer};
+use crate::gpu::{TargetFormats, uniform_buffer};
 use crate::head::HeadPass;
 use crate::hybrid::{HybridSettings, LodBlend, TechniqueKind, check_technique};
-use crate::stats::{ReadbackRing, StatsReadback};
+use crate::services::FrameServices;
+use crate::stats::StatsReadback;
 use crate::strands::oit::StrandOit;
 use crate::strands::{ShadowMap, StrandGeometry, StrandSettings};
 use crate::volume::{Raymarch, VolumeBinding, VolumeSettings, Voxelizer, volume_resources};
@@ -22,22 +22,17 @@ impl Renderer {
     ) -> Result<Self, RenderError> {
         settings.validate()?;
         let layouts = ctx.scoped("creating bind group layouts", || Layouts::new(&ctx.device))?;
-        let (camera, lights, params0) = ctx.scoped("creating uniforms", || {
-            (
-                uniform_buffer(ctx, "frame/uniforms/camera", &CameraUniform::default()),
-                uniform_buffer(ctx, "frame/uniforms/lights", &LightsUniform::default()),
-                uniform_buffer(
-                    ctx,
-                    "frame/uniforms/params",
-                    &crate::gpu::types::StrandParams::default(),
-                ),
+        let services = FrameServices::new(ctx, "frame", PASS_NAMES, super::MAX_OBJECTS)?;
+        let params0 = ctx.scoped("creating uniforms", || {
+            uniform_buffer(
+                ctx,
+                "frame/uniforms/params",
+                &crate::gpu::types::StrandParams::default(),
             )
         })?;
         // The light cameras read the settings every head of hair shares from object 0's.
         let shadow = ShadowMap::new(ctx, &layouts, &params0, settings.shadow_map_size)?;
         let (_, volume_sampler, fallback_volume) = volume_resources(ctx)?;
-        let timer = GpuTimer::with_objects(ctx, "frame", PASS_NAMES, super::MAX_OBJECTS);
-        let ring = ReadbackRing::new(ctx, &timer, 3);
         let mut renderer = Renderer {
             formats,
             technique: TechniqueKind::Strands,
@@ -53,15 +48,10 @@ impl Renderer {
             oit: StrandOit::new(ctx, &layouts, formats.color)?,
             settings,
             layouts,
-            camera,
-            lights,
             slots: Vec::new(),
             shadow,
-            timer,
-            ring,
-            stats_readback: StatsReadback::Wait,
+            services,
             warned: Vec::new(),
-            frame: 0,
         };
         let slot0 = renderer.new_slot(ctx, 0, Some(params0))?;
         renderer.slots.push(slot0);
@@ -224,6 +214,6 @@ impl Renderer {
 
     /// How `render` reports GPU results (default [`StatsReadback::Wait`]).
     pub fn set_stats_readback(&mut self, mode: StatsReadback) {
-        self.stats_readback = mode;
+        self.services.readback = mode;
     }
 }
