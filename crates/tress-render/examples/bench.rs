@@ -18,7 +18,7 @@ use glam::Vec3;
 use tress_hair::HairAsset;
 use tress_render::{
     COLOR_FORMAT, Camera, DirectionalLight, FrameInputs, GpuContext, HeadGeometry, Material,
-    OffscreenTargets, Renderer, StrandSettings, TargetFormats, TriMesh, read_texture,
+    OffscreenTargets, Renderer, SharedInputs, StrandSettings, TargetFormats, TriMesh, read_texture,
 };
 
 /// `strands` strands of `vertices` vertices rooted on the upper part of a sphere of radius 10
@@ -121,18 +121,20 @@ fn main() -> anyhow::Result<()> {
         ..Default::default()
     }];
     let inputs = FrameInputs {
-        camera,
-        lights: &lights,
-        ambient: Vec3::splat(0.06),
+        shared: SharedInputs {
+            camera,
+            lights: &lights,
+            ambient: Vec3::splat(0.06),
+            head: Some(&head),
+            clear: Some(wgpu::Color {
+                r: 0.15,
+                g: 0.16,
+                b: 0.18,
+                a: 1.0,
+            }),
+        },
         material: Material::default(),
         hair: Some(&geometry),
-        head: Some(&head),
-        clear: Some(wgpu::Color {
-            r: 0.15,
-            g: 0.16,
-            b: 0.18,
-            a: 1.0,
-        }),
         objects: &[],
     };
     println!(

@@ -15,7 +15,7 @@ use glam::Vec3;
 use tress_hair::HairAsset;
 use tress_render::{
     Camera, DirectionalLight, FrameInputs, GpuContext, HeadGeometry, Material, Renderer,
-    StrandSettings, TargetFormats, Targets, TriMesh,
+    SharedInputs, StrandSettings, TargetFormats, Targets, TriMesh,
 };
 
 /// Strands rooted on the upper half of a sphere, falling under "gravity".
@@ -113,18 +113,20 @@ fn main() -> anyhow::Result<()> {
         ..Default::default()
     }];
     let inputs = FrameInputs {
-        camera,
-        lights: &lights,
-        ambient: Vec3::splat(0.08),
+        shared: SharedInputs {
+            camera,
+            lights: &lights,
+            ambient: Vec3::splat(0.08),
+            head: Some(&head),
+            clear: Some(wgpu::Color {
+                r: 0.2,
+                g: 0.22,
+                b: 0.25,
+                a: 1.0,
+            }),
+        },
         material: Material::default(),
         hair: Some(&strands),
-        head: Some(&head),
-        clear: Some(wgpu::Color {
-            r: 0.2,
-            g: 0.22,
-            b: 0.25,
-            a: 1.0,
-        }),
         objects: &[],
     };
     let stats = renderer.render(

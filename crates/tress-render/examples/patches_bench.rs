@@ -21,7 +21,7 @@ use tress_hair::patches::{AoParams, PatchParams, bake_ao, generate_patches};
 use tress_render::patches::{PatchFrameInputs, PatchRenderer, PatchSettings, RenderScheme};
 use tress_render::{
     COLOR_FORMAT, Camera, DirectionalLight, GpuContext, HeadGeometry, OffscreenTargets,
-    TargetFormats, Timings, read_texture,
+    SharedInputs, TargetFormats, Timings, read_texture,
 };
 
 struct Options {
@@ -153,18 +153,20 @@ fn main() -> anyhow::Result<()> {
     for frame in 0..=o.frames {
         for (i, (r, g)) in renderers.iter_mut().enumerate() {
             let inputs = PatchFrameInputs {
-                camera,
-                lights: &lights,
-                ambient: Vec3::splat(0.08),
+                shared: SharedInputs {
+                    camera,
+                    lights: &lights,
+                    ambient: Vec3::splat(0.08),
+                    head: Some(&head_gpu),
+                    clear: Some(wgpu::Color {
+                        r: 0.18,
+                        g: 0.18,
+                        b: 0.2,
+                        a: 1.0,
+                    }),
+                },
                 head_color: Vec3::new(0.55, 0.4, 0.33),
                 patches: Some(g),
-                head: Some(&head_gpu),
-                clear: Some(wgpu::Color {
-                    r: 0.18,
-                    g: 0.18,
-                    b: 0.2,
-                    a: 1.0,
-                }),
             };
             let stats = r.render(&ctx, &targets.targets(), &inputs)?;
             if frame > 0 {
@@ -203,18 +205,20 @@ fn main() -> anyhow::Result<()> {
         // The last frame rendered was 3-pass; render the 4-pass one again for the picture.
         let (r, g) = &mut renderers[0];
         let inputs = PatchFrameInputs {
-            camera,
-            lights: &lights,
-            ambient: Vec3::splat(0.08),
+            shared: SharedInputs {
+                camera,
+                lights: &lights,
+                ambient: Vec3::splat(0.08),
+                head: Some(&head_gpu),
+                clear: Some(wgpu::Color {
+                    r: 0.18,
+                    g: 0.18,
+                    b: 0.2,
+                    a: 1.0,
+                }),
+            },
             head_color: Vec3::new(0.55, 0.4, 0.33),
             patches: Some(g),
-            head: Some(&head_gpu),
-            clear: Some(wgpu::Color {
-                r: 0.18,
-                g: 0.18,
-                b: 0.2,
-                a: 1.0,
-            }),
         };
         r.render(&ctx, &targets.targets(), &inputs)?;
         read_texture(&ctx, &targets.color)?.save_png(path)?;

@@ -159,6 +159,24 @@ impl DirectionalLight {
     }
 }
 
+/// What every technique's frame inputs share ([`crate::FrameInputs`],
+/// [`crate::PatchFrameInputs`], [`crate::SatfFrameInputs`]): the camera, the lights, the ambient
+/// light, the opaque head and the clear colour.
+#[derive(Clone, Copy, Debug)]
+pub struct SharedInputs<'a> {
+    /// The camera; its viewport must equal the targets' size.
+    pub camera: Camera,
+    /// Directional lights (at most [`crate::MAX_LIGHTS`]).
+    pub lights: &'a [DirectionalLight],
+    /// Ambient light, linear RGB.
+    pub ambient: Vec3,
+    /// The opaque head mesh, drawn first with depth writes, if any (several characters' heads
+    /// and bodies in one mesh).
+    pub head: Option<&'a crate::HeadGeometry>,
+    /// Clear color and depth first (linear RGBA), or `None` to draw over what the targets hold.
+    pub clear: Option<wgpu::Color>,
+}
+
 /// Hair and head material. Kajiya-Kay uses `base_color` as `K_d` and the primary highlight as
 /// `K_s` and `p`; Scheuermann's dual highlight uses all of it (`tress_shading::HairLighting` with a
 /// white diffuse multiplier and `base_color` as the base).

@@ -20,13 +20,15 @@
 //!     glam::Vec3::new(0.0, 0.0, 30.0), glam::Vec3::ZERO, glam::Vec3::Y,
 //!     0.8, 0.1, 100.0, [256, 256]);
 //! let inputs = FrameInputs {
-//!     camera,
-//!     lights: &[DirectionalLight::default()],
-//!     ambient: glam::Vec3::splat(0.1),
+//!     shared: SharedInputs {
+//!         camera,
+//!         lights: &[DirectionalLight::default()],
+//!         ambient: glam::Vec3::splat(0.1),
+//!         head: None,
+//!         clear: Some(wgpu::Color::BLACK),
+//!     },
 //!     material: Material::default(),
 //!     hair: None,
-//!     head: None,
-//!     clear: Some(wgpu::Color::BLACK),
 //!     objects: &[],
 //! };
 //! let stats = renderer.render(&ctx, &targets.targets(), &inputs)?;
@@ -62,7 +64,7 @@ pub use gpu::{
 pub use head::{HeadGeometry, TriMesh};
 pub use hybrid::{FrameInputs, HairObject, MAX_ATTEMPTS, MAX_OBJECTS, PASS_NAMES, Renderer};
 pub use hybrid::{HybridSettings, ScreenExtent, TechniqueKind, Transition};
-pub use inputs::{Camera, DirectionalLight, Material};
+pub use inputs::{Camera, DirectionalLight, Material, SharedInputs};
 pub use patches::{
     PatchFrameInputs, PatchFrameStats, PatchGeometry, PatchRenderer, PatchSettings, RenderScheme,
 };

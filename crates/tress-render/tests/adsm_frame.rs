@@ -13,7 +13,7 @@ use tress_render::Shading;
 use tress_render::strands::ThicknessFade;
 use tress_render::{
     COLOR_FORMAT, DirectionalLight, FrameInputs, Material, OffscreenTargets, Renderer,
-    StrandSettings, TargetFormats, read_texture,
+    SharedInputs, StrandSettings, TargetFormats, read_texture,
 };
 use tress_shading::dual_scattering::{DualScattering, dual_scattering_lighting};
 use tress_shading::fiber::HairFiber;
@@ -69,13 +69,15 @@ fn frame(
 ) -> tress_render::LinearImage {
     let targets = OffscreenTargets::new(ctx, [SIZE, SIZE], COLOR_FORMAT).unwrap();
     let inputs = FrameInputs {
-        camera: common::ortho_camera(SIZE),
-        lights,
-        ambient: Vec3::splat(AMBIENT),
+        shared: SharedInputs {
+            camera: common::ortho_camera(SIZE),
+            lights,
+            ambient: Vec3::splat(AMBIENT),
+            head: None,
+            clear: Some(wgpu::Color::BLACK),
+        },
         material,
         hair: Some(hair),
-        head: None,
-        clear: Some(wgpu::Color::BLACK),
         objects: &[],
     };
     renderer.render(ctx, &targets.targets(), &inputs).unwrap();

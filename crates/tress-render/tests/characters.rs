@@ -9,8 +9,8 @@ use glam::Vec3;
 use tress_hair::HairAsset;
 use tress_render::{
     COLOR_FORMAT, Camera, DirectionalLight, FrameInputs, FrameStats, GpuContext, HairObject,
-    HybridSettings, Material, OffscreenTargets, Renderer, StrandGeometry, TargetFormats,
-    TechniqueKind, Transition, VolumeSettings,
+    HybridSettings, Material, OffscreenTargets, Renderer, SharedInputs, StrandGeometry,
+    TargetFormats, TechniqueKind, Transition, VolumeSettings,
 };
 
 /// Three characters side by side, each in a square of `SIDE` pixels.
@@ -105,13 +105,15 @@ impl Stage {
             intensity: 2.5,
         }];
         let inputs = FrameInputs {
-            camera,
-            lights: &lights,
-            ambient: Vec3::splat(0.06),
+            shared: SharedInputs {
+                camera,
+                lights: &lights,
+                ambient: Vec3::splat(0.06),
+                head: None,
+                clear: Some(common::BACKGROUND),
+            },
             material: Material::default(),
             hair: None,
-            head: None,
-            clear: Some(common::BACKGROUND),
             objects,
         };
         let stats = self
@@ -372,13 +374,15 @@ fn auto_rasterizes_the_large_character_and_raymarches_the_small_one() {
     };
     let lights = [DirectionalLight::default()];
     let inputs = FrameInputs {
-        camera: cam,
-        lights: &lights,
-        ambient: Vec3::ZERO,
+        shared: SharedInputs {
+            camera: cam,
+            lights: &lights,
+            ambient: Vec3::ZERO,
+            head: None,
+            clear: None,
+        },
         material: Material::default(),
         hair: None,
-        head: None,
-        clear: None,
         objects: &[patches],
     };
     let e = stage

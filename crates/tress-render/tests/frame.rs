@@ -6,8 +6,8 @@ mod common;
 use glam::Vec3;
 use tress_render::{
     COLOR_FORMAT, DirectionalLight, FrameInputs, HeadGeometry, Material, OffscreenTargets,
-    PASS_NAMES, RenderError, Renderer, StatsReadback, StrandSettings, TargetFormats, Targets,
-    Timings, TriMesh, read_texture,
+    PASS_NAMES, RenderError, Renderer, SharedInputs, StatsReadback, StrandSettings, TargetFormats,
+    Targets, Timings, TriMesh, read_texture,
 };
 
 const SIZE: u32 = 48;
@@ -18,16 +18,18 @@ fn inputs<'a>(
     lights: &'a [DirectionalLight],
 ) -> FrameInputs<'a> {
     FrameInputs {
-        camera: common::ortho_camera(SIZE),
-        lights,
-        ambient: Vec3::ONE,
+        shared: SharedInputs {
+            camera: common::ortho_camera(SIZE),
+            lights,
+            ambient: Vec3::ONE,
+            head,
+            clear: Some(wgpu::Color::BLACK),
+        },
         material: Material {
             head_color: Vec3::new(0.0, 1.0, 0.0),
             ..Default::default()
         },
         hair,
-        head,
-        clear: Some(wgpu::Color::BLACK),
         objects: &[],
     }
 }
@@ -93,7 +95,7 @@ fn bad_targets_and_inputs_are_errors() {
         Renderer::new(&ctx, TargetFormats::default(), StrandSettings::default()).expect("renderer");
     let t = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
     let mut wrong_viewport = inputs(None, None, &[]);
-    wrong_viewport.camera.viewport = [SIZE + 1, SIZE];
+    wrong_viewport.shared.camera.viewport = [SIZE + 1, SIZE];
     assert!(matches!(
         r.render(&ctx, &t.targets(), &wrong_viewport),
         Err(RenderError::Target(_))
@@ -268,8 +270,8 @@ fn readback_writes_png_and_exr() {
         Renderer::new(&ctx, TargetFormats::default(), StrandSettings::default()).expect("renderer");
     let t = OffscreenTargets::new(&ctx, [SIZE, SIZE / 2], COLOR_FORMAT).expect("targets");
     let mut frame = inputs(None, None, &[]);
-    frame.camera.viewport = [SIZE, SIZE / 2];
-    frame.clear = Some(wgpu::Color {
+    frame.shared.camera.viewport = [SIZE, SIZE / 2];
+    frame.shared.clear = Some(wgpu::Color {
         r: 0.25,
         g: 0.5,
         b: 2.0,

@@ -11,7 +11,7 @@ use glam::Vec3;
 use tress_render::strands::{NODE_BYTES, NODE_CHUNKS, Oit, OitKind};
 use tress_render::{
     COLOR_FORMAT, FrameInputs, FrameStats, GpuContext, LinearImage, Material, OffscreenTargets,
-    Renderer, StrandSettings, TargetFormats, read_texture,
+    Renderer, SharedInputs, StrandSettings, TargetFormats, read_texture,
 };
 use tress_shading::{ShortcutFragment, StrandFragment, resolve_k_buffer, resolve_shortcut};
 
@@ -51,18 +51,20 @@ fn render_keep(
         .expect("upload");
     let targets = OffscreenTargets::new(ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
     let inputs = FrameInputs {
-        camera: common::ortho_camera(SIZE),
-        lights: &[],
-        ambient: Vec3::ONE,
+        shared: SharedInputs {
+            camera: common::ortho_camera(SIZE),
+            lights: &[],
+            ambient: Vec3::ONE,
+            head: None,
+            clear: Some(wgpu::Color {
+                r: f64::from(BACKGROUND.x),
+                g: f64::from(BACKGROUND.y),
+                b: f64::from(BACKGROUND.z),
+                a: 1.0,
+            }),
+        },
         material: Material::default(),
         hair: Some(&hair),
-        head: None,
-        clear: Some(wgpu::Color {
-            r: f64::from(BACKGROUND.x),
-            g: f64::from(BACKGROUND.y),
-            b: f64::from(BACKGROUND.z),
-            a: 1.0,
-        }),
         objects: &[],
     };
     let stats = (0..frames)
@@ -361,13 +363,15 @@ fn a_frame_beyond_a_16_mib_pool_comes_out_complete_with_shortcut() {
             [256, 256],
         );
         let inputs = FrameInputs {
-            camera,
-            lights: &lights,
-            ambient: Vec3::splat(0.06),
+            shared: SharedInputs {
+                camera,
+                lights: &lights,
+                ambient: Vec3::splat(0.06),
+                head: Some(&head),
+                clear: Some(common::BACKGROUND),
+            },
             material: Material::default(),
             hair: Some(&hair),
-            head: Some(&head),
-            clear: Some(common::BACKGROUND),
             objects: &[],
         };
         let stats = r.render(&ctx, &t.targets(), &inputs).expect("frame");

@@ -14,7 +14,8 @@ use tress_hair::patches::{
 };
 use tress_render::patches::{PatchFrameInputs, PatchRenderer, PatchSettings, RenderScheme};
 use tress_render::{
-    COLOR_FORMAT, Camera, DirectionalLight, HeadGeometry, OffscreenTargets, TargetFormats, TriMesh,
+    COLOR_FORMAT, Camera, DirectionalLight, HeadGeometry, OffscreenTargets, SharedInputs,
+    TargetFormats, TriMesh,
 };
 
 const SIZE: u32 = 128;
@@ -107,13 +108,15 @@ fn render(
         [SIZE, SIZE],
     );
     let inputs = PatchFrameInputs {
-        camera,
-        lights: &lights,
-        ambient: Vec3::splat(0.08),
+        shared: SharedInputs {
+            camera,
+            lights: &lights,
+            ambient: Vec3::splat(0.08),
+            head: Some(&head),
+            clear: Some(common::BACKGROUND),
+        },
         head_color: Vec3::new(0.55, 0.4, 0.33),
         patches: Some(&geometry),
-        head: Some(&head),
-        clear: Some(common::BACKGROUND),
     };
     r.render(&ctx, &t.targets(), &inputs).expect("frame");
     common::srgb_image(&ctx, &t.color)

@@ -10,7 +10,8 @@ use tress_hair::patches::{HairTextures, PatchMesh, Texture};
 use tress_render::gpu::{linear_to_srgb, srgb_to_linear};
 use tress_render::patches::{PatchFrameInputs, PatchRenderer, PatchSettings, RenderScheme};
 use tress_render::{
-    COLOR_FORMAT, HeadGeometry, LinearImage, OffscreenTargets, TargetFormats, TriMesh, read_texture,
+    COLOR_FORMAT, HeadGeometry, LinearImage, OffscreenTargets, SharedInputs, TargetFormats,
+    TriMesh, read_texture,
 };
 
 const SIZE: u32 = 32;
@@ -120,18 +121,20 @@ fn render_with(
     let head = head.map(|h| HeadGeometry::new(&ctx, h).expect("head"));
     let t = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
     let inputs = PatchFrameInputs {
-        camera: common::ortho_camera(SIZE),
-        lights: &[],
-        ambient: Vec3::ONE,
+        shared: SharedInputs {
+            camera: common::ortho_camera(SIZE),
+            lights: &[],
+            ambient: Vec3::ONE,
+            head: head.as_ref(),
+            clear: Some(wgpu::Color {
+                r: BG[0],
+                g: BG[1],
+                b: BG[2],
+                a: 1.0,
+            }),
+        },
         head_color: Vec3::new(0.0, 1.0, 0.0),
         patches: Some(&geometry),
-        head: head.as_ref(),
-        clear: Some(wgpu::Color {
-            r: BG[0],
-            g: BG[1],
-            b: BG[2],
-            a: 1.0,
-        }),
     };
     let stats = r.render(&ctx, &t.targets(), &inputs).expect("frame");
     let image = read_texture(&ctx, &t.color).expect("readback");
@@ -323,25 +326,33 @@ fn bad_inputs_are_errors_not_panics() {
     .expect("renderer");
     let t = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
     let inputs = PatchFrameInputs {
-        camera: common::ortho_camera(SIZE + 1),
-        lights: &[],
-        ambient: Vec3::ZERO,
+        shared: SharedInputs {
+            camera: common::ortho_camera(SIZE + 1),
+            lights: &[],
+            ambient: Vec3::ZERO,
+            head: None,
+            clear: None,
+        },
         head_color: Vec3::ONE,
         patches: None,
-        head: None,
-        clear: None,
     };
     assert!(r.render(&ctx, &t.targets(), &inputs).is_err());
     let lights = [tress_render::DirectionalLight::default(); 5];
     let inputs = PatchFrameInputs {
-        camera: common::ortho_camera(SIZE),
-        lights: &lights,
+        shared: SharedInputs {
+            camera: common::ortho_camera(SIZE),
+            lights: &lights,
+            ..inputs.shared
+        },
         ..inputs
     };
     assert!(r.render(&ctx, &t.targets(), &inputs).is_err());
     let inputs = PatchFrameInputs {
-        lights: &[],
-        ambient: Vec3::NAN,
+        shared: SharedInputs {
+            lights: &[],
+            ambient: Vec3::NAN,
+            ..inputs.shared
+        },
         ..inputs
     };
     assert!(r.render(&ctx, &t.targets(), &inputs).is_err());
@@ -361,7 +372,10 @@ fn bad_inputs_are_errors_not_panics() {
     };
     r.set_settings(&ctx, s).expect("3-pass");
     let inputs = PatchFrameInputs {
-        ambient: Vec3::ZERO,
+        shared: SharedInputs {
+            ambient: Vec3::ZERO,
+            ..inputs.shared
+        },
         ..inputs
     };
     let stats = r.render(&ctx, &t.targets(), &inputs).expect("empty frame");

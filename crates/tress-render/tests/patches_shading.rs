@@ -11,7 +11,8 @@ use tress_hair::patches::{HairTextures, PatchMesh, Texture};
 use tress_render::gpu::{linear_to_srgb, srgb_to_linear};
 use tress_render::patches::{PatchFrameInputs, PatchRenderer, PatchSettings, RenderScheme};
 use tress_render::{
-    COLOR_FORMAT, Camera, DirectionalLight, OffscreenTargets, Shading, TargetFormats, read_texture,
+    COLOR_FORMAT, Camera, DirectionalLight, OffscreenTargets, Shading, SharedInputs, TargetFormats,
+    read_texture,
 };
 use tress_shading::dual_scattering::{DualScattering, dual_scattering_lighting};
 use tress_shading::fiber::{HairFiber, sigma_a_from_melanin};
@@ -111,13 +112,15 @@ fn compare_with_cpu(
     let (camera, light) = view();
     let t = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
     let inputs = PatchFrameInputs {
-        camera,
-        lights: &[light],
-        ambient: Vec3::ZERO,
+        shared: SharedInputs {
+            camera,
+            lights: &[light],
+            ambient: Vec3::ZERO,
+            head: None,
+            clear: Some(wgpu::Color::BLACK),
+        },
         head_color: Vec3::ONE,
         patches: Some(&geometry),
-        head: None,
-        clear: Some(wgpu::Color::BLACK),
     };
     r.render(&ctx, &t.targets(), &inputs).expect("frame");
     let image = read_texture(&ctx, &t.color).expect("readback");

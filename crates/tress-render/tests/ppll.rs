@@ -8,7 +8,7 @@ use common::layers::{BACKGROUND, assert_close, layers};
 use glam::Vec3;
 use tress_render::{
     COLOR_FORMAT, FrameInputs, FrameStats, LinearImage, Material, OffscreenTargets, Renderer,
-    StrandSettings, TargetFormats, read_texture,
+    SharedInputs, StrandSettings, TargetFormats, read_texture,
 };
 use tress_shading::{StrandFragment, resolve_k_buffer};
 
@@ -29,18 +29,20 @@ fn render_layers(
         .expect("upload");
     let targets = OffscreenTargets::new(ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
     let inputs = FrameInputs {
-        camera: common::ortho_camera(SIZE),
-        lights: &[],
-        ambient: Vec3::ONE,
+        shared: SharedInputs {
+            camera: common::ortho_camera(SIZE),
+            lights: &[],
+            ambient: Vec3::ONE,
+            head: None,
+            clear: clear.then_some(wgpu::Color {
+                r: f64::from(BACKGROUND.x),
+                g: f64::from(BACKGROUND.y),
+                b: f64::from(BACKGROUND.z),
+                a: 1.0,
+            }),
+        },
         material: Material::default(),
         hair: Some(&hair),
-        head: None,
-        clear: clear.then_some(wgpu::Color {
-            r: f64::from(BACKGROUND.x),
-            g: f64::from(BACKGROUND.y),
-            b: f64::from(BACKGROUND.z),
-            a: 1.0,
-        }),
         objects: &[],
     };
     let stats = (0..frames)

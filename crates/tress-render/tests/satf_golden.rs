@@ -13,7 +13,7 @@ use tress_hair::generate::Head;
 use tress_render::satf::{Reflectance, SatfSettings, StageTiming};
 use tress_render::{
     COLOR_FORMAT, Camera, DirectionalLight, HeadGeometry, OffscreenTargets, SatfDatabase,
-    SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, TargetFormats,
+    SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, SharedInputs, TargetFormats,
 };
 use tress_satf::database::Database;
 use tress_satf::generate::{ClusterStyle, generate_clusters};
@@ -81,14 +81,16 @@ fn render(settings: SatfSettings, volume: &HairVolume) -> (image::RgbImage, Satf
     );
     let lights = [key_light()];
     let inputs = SatfFrameInputs {
-        camera,
-        lights: &lights,
-        ambient: Vec3::splat(0.08),
+        shared: SharedInputs {
+            camera,
+            lights: &lights,
+            ambient: Vec3::splat(0.08),
+            head: Some(&head),
+            clear: Some(common::BACKGROUND),
+        },
         head_color: Vec3::new(0.6, 0.45, 0.35),
         clusters: Some(&geometry),
         database: &db,
-        head: Some(&head),
-        clear: Some(common::BACKGROUND),
     };
     let stats = r.render(&ctx, &t.targets(), &inputs).expect("frame");
     (common::srgb_image(&ctx, &t.color), stats)

@@ -11,7 +11,8 @@ use tress_hair::generate::Head;
 use tress_render::satf::SatfSettings;
 use tress_render::{
     COLOR_FORMAT, Camera, DirectionalLight, GpuContext, LinearImage, OffscreenTargets,
-    SatfDatabase, SatfFrameInputs, SatfGeometry, SatfRenderer, TargetFormats, read_texture,
+    SatfDatabase, SatfFrameInputs, SatfGeometry, SatfRenderer, SharedInputs, TargetFormats,
+    read_texture,
 };
 use tress_satf::generate::{ClusterStyle, generate_clusters};
 use tress_satf::online::blend_layers;
@@ -100,14 +101,16 @@ impl Stage {
                 &self.ctx,
                 &t.targets(),
                 &SatfFrameInputs {
-                    camera: self.camera,
-                    lights: &self.lights,
-                    ambient: Vec3::splat(0.1),
+                    shared: SharedInputs {
+                        camera: self.camera,
+                        lights: &self.lights,
+                        ambient: Vec3::splat(0.1),
+                        head: None,
+                        clear: Some(clear),
+                    },
                     head_color: Vec3::ONE,
                     clusters: Some(&geometry),
                     database: &self.db,
-                    head: None,
-                    clear: Some(clear),
                 },
             )
             .expect("frame");

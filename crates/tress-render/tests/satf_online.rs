@@ -12,7 +12,7 @@ use tress_hair::generate::Head;
 use tress_render::satf::SatfSettings;
 use tress_render::{
     COLOR_FORMAT, Camera, DirectionalLight, OffscreenTargets, RenderError, SatfDatabase,
-    SatfFrameInputs, SatfGeometry, SatfRenderer, TargetFormats,
+    SatfFrameInputs, SatfGeometry, SatfRenderer, SharedInputs, TargetFormats,
 };
 use tress_satf::database::{BakeSettings, Database, bake, is_uniform, params_distance};
 use tress_satf::generate::{ClusterStyle, generate_clusters};
@@ -105,14 +105,16 @@ fn index_calculation_maps_and_s_maps_match_the_cpu() {
             &ctx,
             &t.targets(),
             &SatfFrameInputs {
-                camera: cam,
-                lights: &lights,
-                ambient: Vec3::splat(0.1),
+                shared: SharedInputs {
+                    camera: cam,
+                    lights: &lights,
+                    ambient: Vec3::splat(0.1),
+                    head: None,
+                    clear: Some(wgpu::Color::BLACK),
+                },
                 head_color: Vec3::ONE,
                 clusters: Some(&geometry),
                 database: &db,
-                head: None,
-                clear: Some(wgpu::Color::BLACK),
             },
         )
         .expect("frame");
@@ -265,14 +267,16 @@ fn inputs_are_checked() {
     let t = OffscreenTargets::new(&ctx, [16, 16], COLOR_FORMAT).expect("targets");
     let lights = [light(); 5];
     let inputs = SatfFrameInputs {
-        camera: camera(16),
-        lights: &lights[..1],
-        ambient: Vec3::ZERO,
+        shared: SharedInputs {
+            camera: camera(16),
+            lights: &lights[..1],
+            ambient: Vec3::ZERO,
+            head: None,
+            clear: None,
+        },
         head_color: Vec3::ONE,
         clusters: Some(&geometry),
         database: &db4,
-        head: None,
-        clear: None,
     };
     // Clusters prepared for another database layout.
     let err = r.render(&ctx, &t.targets(), &inputs).unwrap_err();
@@ -286,8 +290,11 @@ fn inputs_are_checked() {
             &ctx,
             &t.targets(),
             &SatfFrameInputs {
+                shared: SharedInputs {
+                    lights: &lights,
+                    ..inputs.shared
+                },
                 database: &db6,
-                lights: &lights,
                 ..inputs
             },
         )
@@ -298,8 +305,11 @@ fn inputs_are_checked() {
             &ctx,
             &t.targets(),
             &SatfFrameInputs {
+                shared: SharedInputs {
+                    camera: camera(8),
+                    ..inputs.shared
+                },
                 database: &db6,
-                camera: camera(8),
                 ..inputs
             },
         )
@@ -318,9 +328,12 @@ fn inputs_are_checked() {
             &ctx,
             &t.targets(),
             &SatfFrameInputs {
+                shared: SharedInputs {
+                    clear: Some(wgpu::Color::RED),
+                    ..inputs.shared
+                },
                 database: &db6,
                 clusters: None,
-                clear: Some(wgpu::Color::RED),
                 ..inputs
             },
         )

@@ -13,7 +13,7 @@ use tress_render::session::{AMBIENT, Session, SessionOptions, scene_from_inputs}
 use tress_render::{
     COLOR_FORMAT, FrameInputs, GpuContext, HeadGeometry, LinearImage, OffscreenTargets,
     PatchFrameInputs, PatchRenderer, PreparedScene, Renderer, SatfDatabase, SatfFrameInputs,
-    SatfGeometry, SatfRenderer, TargetFormats, TechniqueKind, read_texture,
+    SatfGeometry, SatfRenderer, SharedInputs, TargetFormats, TechniqueKind, read_texture,
 };
 
 const SIZE: [u32; 2] = [96, 54];
@@ -68,13 +68,15 @@ fn session_frames_equal_the_renderers_frames() {
     ] {
         renderer.set_technique(technique).expect("technique");
         let inputs = FrameInputs {
-            camera,
-            lights: &prepared.lights,
-            ambient: Vec3::splat(AMBIENT),
+            shared: SharedInputs {
+                camera,
+                lights: &prepared.lights,
+                ambient: Vec3::splat(AMBIENT),
+                head: head.as_ref(),
+                clear: prepared.clear_color(),
+            },
             material: prepared.material,
             hair: Some(&hair),
-            head: head.as_ref(),
-            clear: prepared.clear_color(),
             objects: &[],
         };
         renderer.render(&ctx, &targets.targets(), &inputs).unwrap();
@@ -103,13 +105,15 @@ fn session_frames_equal_the_renderers_frames() {
             &ctx,
             &targets.targets(),
             &PatchFrameInputs {
-                camera,
-                lights: &prepared.lights,
-                ambient: Vec3::splat(AMBIENT),
+                shared: SharedInputs {
+                    camera,
+                    lights: &prepared.lights,
+                    ambient: Vec3::splat(AMBIENT),
+                    head: head.as_ref(),
+                    clear: prepared.clear_color(),
+                },
                 head_color: prepared.material.head_color,
                 patches: Some(&geometry),
-                head: head.as_ref(),
-                clear: prepared.clear_color(),
             },
         )
         .unwrap();
@@ -131,14 +135,16 @@ fn session_frames_equal_the_renderers_frames() {
             &ctx,
             &targets.targets(),
             &SatfFrameInputs {
-                camera,
-                lights: &prepared.lights,
-                ambient: Vec3::splat(AMBIENT),
+                shared: SharedInputs {
+                    camera,
+                    lights: &prepared.lights,
+                    ambient: Vec3::splat(AMBIENT),
+                    head: head.as_ref(),
+                    clear: prepared.clear_color(),
+                },
                 head_color: prepared.material.head_color,
                 clusters: Some(&geometry),
                 database: &db,
-                head: head.as_ref(),
-                clear: prepared.clear_color(),
             },
         )
         .unwrap();

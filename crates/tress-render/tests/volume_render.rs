@@ -8,9 +8,9 @@ mod common;
 use glam::Vec3;
 use tress_render::{
     COLOR_FORMAT, Camera, DirectionalLight, FrameInputs, FrameStats, GpuContext, HeadGeometry,
-    HybridSettings, LinearImage, Material, OffscreenTargets, Renderer, ShadowMode, StrandGeometry,
-    StrandSettings, TargetFormats, TechniqueKind, Timings, Transition, TriMesh, VolumeSettings,
-    read_texture,
+    HybridSettings, LinearImage, Material, OffscreenTargets, Renderer, ShadowMode, SharedInputs,
+    StrandGeometry, StrandSettings, TargetFormats, TechniqueKind, Timings, Transition, TriMesh,
+    VolumeSettings, read_texture,
 };
 
 const SIZE: u32 = 96;
@@ -90,18 +90,20 @@ impl Scene {
     fn render(&mut self, camera: Camera, head: bool) -> (LinearImage, FrameStats) {
         let lights = [key_light()];
         let inputs = FrameInputs {
-            camera,
-            lights: &lights,
-            ambient: Vec3::splat(0.06),
+            shared: SharedInputs {
+                camera,
+                lights: &lights,
+                ambient: Vec3::splat(0.06),
+                head: head.then_some(&self.head),
+                clear: Some(wgpu::Color {
+                    r: 0.15,
+                    g: 0.16,
+                    b: 0.18,
+                    a: 1.0,
+                }),
+            },
             material: Material::default(),
             hair: Some(&self.hair),
-            head: head.then_some(&self.head),
-            clear: Some(wgpu::Color {
-                r: 0.15,
-                g: 0.16,
-                b: 0.18,
-                a: 1.0,
-            }),
             objects: &[],
         };
         let stats = self
@@ -189,18 +191,20 @@ fn raymarcher_draws_the_hair_and_stops_at_the_head() {
     let lights = [key_light()];
     let ball_only = {
         let inputs = FrameInputs {
-            camera: cam,
-            lights: &lights,
-            ambient: Vec3::splat(0.06),
+            shared: SharedInputs {
+                camera: cam,
+                lights: &lights,
+                ambient: Vec3::splat(0.06),
+                head: Some(&s.head),
+                clear: Some(wgpu::Color {
+                    r: 0.15,
+                    g: 0.16,
+                    b: 0.18,
+                    a: 1.0,
+                }),
+            },
             material: Material::default(),
             hair: None,
-            head: Some(&s.head),
-            clear: Some(wgpu::Color {
-                r: 0.15,
-                g: 0.16,
-                b: 0.18,
-                a: 1.0,
-            }),
             objects: &[],
         };
         s.renderer

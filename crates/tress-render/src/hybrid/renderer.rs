@@ -35,8 +35,6 @@
 //! front of a rasterized one is covered by its hair where they overlap: `auto` never draws that,
 //! as it rasterizes the larger, nearer ones).
 
-use glam::Vec3;
-
 mod objects;
 mod setup;
 
@@ -45,7 +43,7 @@ pub use objects::{HairObject, MAX_OBJECTS};
 use crate::bind::Layouts;
 use crate::gpu::types::{self, VolumeParams};
 use crate::gpu::{GpuTimer, TargetFormats, Targets, clear_loads};
-use crate::head::{HeadGeometry, HeadPass};
+use crate::head::HeadPass;
 use crate::hybrid::{
     FramePlan, HybridSettings, LodBlend, LodLayers, TechniqueKind, check_technique,
 };
@@ -58,7 +56,7 @@ use crate::strands::{
 };
 use crate::volume::raymarch::RaymarchInputs;
 use crate::volume::{Raymarch, ShadowMode, VolumeSettings, Voxelizer};
-use crate::{Camera, DirectionalLight, GpuContext, Material, RenderError};
+use crate::{Camera, GpuContext, Material, RenderError, SharedInputs};
 use objects::{Drawn, ObjectSlot, check_objects, frame_objects};
 
 /// Most renders of one frame when PPLL fragments were dropped (see [`Renderer::render`]).
@@ -83,21 +81,13 @@ pub const PASS_NAMES: &[&str] = &[
 /// Everything a frame draws. Plain data: the application owns the geometry and the targets.
 #[derive(Clone, Debug)]
 pub struct FrameInputs<'a> {
-    /// The camera; its viewport must equal the targets' size.
-    pub camera: Camera,
-    /// Directional lights (at most [`crate::MAX_LIGHTS`]).
-    pub lights: &'a [DirectionalLight],
-    /// Ambient light, linear RGB.
-    pub ambient: Vec3,
+    /// The camera, lights, ambient light, opaque head and clear colour.
+    pub shared: SharedInputs<'a>,
     /// The material of `hair` and of the head (whose colour it gives).
     pub material: Material,
     /// The hair, if any, drawn with `material` and the renderer's technique
     /// ([`Renderer::set_technique`]).
     pub hair: Option<&'a StrandGeometry>,
-    /// The opaque head mesh, if any (several characters' heads and bodies in one mesh).
-    pub head: Option<&'a HeadGeometry>,
-    /// Clear color and depth first (linear RGBA), or `None` to draw over what the targets hold.
-    pub clear: Option<wgpu::Color>,
     /// More heads of hair in the same frame (characters), after `hair`, each with its own
     /// material and technique; they share the lights, the shadow maps and one OIT, each volume
     /// character has its own volume (at most [`MAX_OBJECTS`] in all).
@@ -152,7 +142,7 @@ impl Renderer {
 
     /// Render one frame into `targets` and submit it on `ctx.queue`.
     ///
-    /// With [`StatsReadback::Wait`] and a clearing frame (`inputs.clear` set), a frame that
+    /// With [`StatsReadback::Wait`] and a clearing frame (`inputs.shared.clear` set), a frame that
     /// dropped PPLL fragments is rendered again with the grown pool, or with ShortCut when the
     /// pool's cap cannot hold it and `strands.oit` is `auto` (at most [`MAX_ATTEMPTS`] times in
     /// all), so offline renders are complete; under `auto` a PPLL frame whose k-buffer merged
@@ -167,14 +157,18 @@ impl Renderer {
         inputs: &FrameInputs<'_>,
     ) -> Result<FrameStats, RenderError> {
         // ---- validate inputs (never panic on user data)
-        let size = targets.validate_view(self.formats, &inputs.camera, inputs.lights.len())?;
+        let size = targets.validate_view(
+            self.formats,
+            &inputs.shared.camera,
+            inputs.shared.lights.len(),
+        )?;
         inputs.material.validate()?;
         for o in inputs.objects {
             o.material.validate()?;
             check_technique(o.technique)?;
         }
         check_objects(usize::from(inputs.hair.is_some()) + inputs.objects.len())?;
-        if !inputs.ambient.is_finite() {
+        if !inputs.shared.ambient.is_finite() {
             return Err(RenderError::Invalid("ambient light is not finite".into()));
         }
 
@@ -201,7 +195,7 @@ impl Renderer {
                     retry = self.oit.learn(ctx, &self.settings, r);
                 }
             }
-            if retry && inputs.clear.is_some() && attempts < MAX_ATTEMPTS {
+            if retry && inputs.shared.clear.is_some() && attempts < MAX_ATTEMPTS {
                 tracing::debug!(
                     frame = sub.ticket.frame,
                     "fragments were lost or mostly unsorted: rendering the frame again"
@@ -286,7 +280,7 @@ impl Renderer {
             .map(|&(h, material, technique)| Drawn {
                 hair: h.filter(|h| h.segment_count() > 0),
                 material,
-                plan: FramePlan::new(technique, settings, &inputs.camera, h, several),
+                plan: FramePlan::new(technique, settings, &inputs.shared.camera, h, several),
             })
             .collect();
         self.ensure_slots(ctx, drawn.len())?;
@@ -320,11 +314,11 @@ impl Renderer {
         let bounds = if several {
             union(&|d| d.plan.strands).or_else(|| union(&|_| true))
         } else {
-            frame_sphere(union(&|_| true), inputs.head.map(|h| h.bounds))
+            frame_sphere(union(&|_| true), inputs.shared.head.map(|h| h.bounds))
         };
         let (lights, light_cameras) = lights_uniform(
-            inputs.ambient,
-            inputs.lights,
+            inputs.shared.ambient,
+            inputs.shared.lights,
             Some((bounds, self.shadow.size())),
         )?;
         let mut base = self.settings.params();
@@ -336,7 +330,8 @@ impl Renderer {
         base.target_width = size[0];
         base.target_height = size[1];
         base.light_count = lights.count;
-        self.services.write_view(ctx, &inputs.camera, &lights);
+        self.services
+            .write_view(ctx, &inputs.shared.camera, &lights);
         for (i, (d, &(unfiltered, ..))) in drawn.iter().zip(&hair).enumerate() {
             // The width of a shadow-map line in the volume's ADSM model: of the frame's maps
             // where they shade this head of hair, else of maps framing it alone.
@@ -344,7 +339,7 @@ impl Renderer {
                 .then(|| d.hair.map(|h| h.bounds))
                 .flatten();
             let radius = own.or(bounds).map_or(1.0, |b| b.1);
-            self.write_object_uniforms(ctx, i, d, unfiltered, base, &inputs.camera, radius);
+            self.write_object_uniforms(ctx, i, d, unfiltered, base, &inputs.shared.camera, radius);
         }
 
         let ticket = self.services.begin(ctx)?;
@@ -389,7 +384,7 @@ impl Renderer {
                     &light_cameras,
                     ShadowCasters {
                         hair: &casters,
-                        head: inputs.head,
+                        head: inputs.shared.head,
                         width_px: shadow_width_px,
                     },
                 );
@@ -399,10 +394,10 @@ impl Renderer {
                 let mut pass = targets.begin_pass(
                     &mut encoder,
                     "head/head_pass/pass",
-                    clear_loads(inputs.clear),
+                    clear_loads(inputs.shared.clear),
                     timer.render_writes("head", true, true),
                 );
-                if let Some(head) = inputs.head {
+                if let Some(head) = inputs.shared.head {
                     pass.set_bind_group(0, &slots[0].view_group, &[]);
                     pass.set_bind_group(1, &slots[0].lighting_group, &[]);
                     head_pass.draw(&mut pass, head);

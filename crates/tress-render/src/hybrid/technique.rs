@@ -75,13 +75,9 @@ impl Technique for StrandTechnique {
             ctx,
             targets,
             &FrameInputs {
-                camera: frame.camera,
-                lights: frame.lights,
-                ambient: frame.ambient,
+                shared: frame.shared,
                 material: frame.prepared.material,
                 hair: None,
-                head: frame.head,
-                clear: frame.clear,
                 objects: &objects,
             },
         )?;

@@ -21,28 +21,21 @@ use super::{
 };
 use crate::gpu::types::{FiberCache, PatchParamsGpu};
 use crate::gpu::{TargetFormats, Targets, Timings, clear_loads, uniform_buffer};
-use crate::head::HeadGeometry;
 use crate::services::FrameServices;
 use crate::stats::{SlotInfo, StatsReadback};
-use crate::{Camera, DirectionalLight, GpuContext, RenderError};
+use crate::{GpuContext, RenderError, SharedInputs};
 
 /// Everything a patch frame draws. Plain data: the application owns geometry and targets.
 #[derive(Clone, Debug)]
 pub struct PatchFrameInputs<'a> {
-    /// The camera; its viewport must equal the targets' size.
-    pub camera: Camera,
-    /// Directional lights (at most [`MAX_LIGHTS`]); each adds one `HairLighting` term.
-    pub lights: &'a [DirectionalLight],
-    /// Ambient light, linear RGB (adds `ambient · base · ao`; zero gives the slide's formula).
-    pub ambient: Vec3,
+    /// The camera, lights (each adds one `HairLighting` term), ambient light (adds
+    /// `ambient · base · ao`; zero gives the slide's formula), opaque head (drawn first) and
+    /// clear colour.
+    pub shared: SharedInputs<'a>,
     /// Head mesh color, linear RGB.
     pub head_color: Vec3,
     /// The patches, if any.
     pub patches: Option<&'a PatchGeometry>,
-    /// The opaque head, drawn first, if any.
-    pub head: Option<&'a HeadGeometry>,
-    /// Clear color and depth first (linear RGBA), or `None` to draw over what the targets hold.
-    pub clear: Option<wgpu::Color>,
 }
 
 /// What [`PatchRenderer::render`] returns.
@@ -310,8 +303,12 @@ impl PatchRenderer {
         inputs: &PatchFrameInputs<'_>,
     ) -> Result<PatchFrameStats, RenderError> {
         // ---- validate inputs (never panic on user data)
-        let size = targets.validate_view(self.formats, &inputs.camera, inputs.lights.len())?;
-        if !inputs.ambient.is_finite() || !inputs.head_color.is_finite() {
+        let size = targets.validate_view(
+            self.formats,
+            &inputs.shared.camera,
+            inputs.shared.lights.len(),
+        )?;
+        if !inputs.shared.ambient.is_finite() || !inputs.head_color.is_finite() {
             return Err(RenderError::Invalid(
                 "ambient light and head color must be finite".into(),
             ));
@@ -319,9 +316,11 @@ impl PatchRenderer {
 
         // ---- uniforms
         // Patches cast no shadows: the lights carry no shadow transform.
-        let (lights, _) = crate::inputs::lights_uniform(inputs.ambient, inputs.lights, None)?;
+        let (lights, _) =
+            crate::inputs::lights_uniform(inputs.shared.ambient, inputs.shared.lights, None)?;
         let head_color = inputs.head_color.extend(1.0).to_array();
-        self.services.write_view(ctx, &inputs.camera, &lights);
+        self.services
+            .write_view(ctx, &inputs.shared.camera, &lights);
         let q = &ctx.queue;
         q.write_buffer(&self.head_color, 0, bytemuck::bytes_of(&head_color));
         let params = self.params();
@@ -348,10 +347,10 @@ impl PatchRenderer {
                 let mut pass = targets.begin_pass(
                     &mut encoder,
                     "patches/head/pass",
-                    clear_loads(inputs.clear),
+                    clear_loads(inputs.shared.clear),
                     timer.render_writes("head", true, true),
                 );
-                if let Some(head) = inputs.head {
+                if let Some(head) = inputs.shared.head {
                     pass.set_bind_group(0, view, &[]);
                     pass.set_bind_group(1, lighting, &[]);
                     head_pass.draw(&mut pass, head);

@@ -54,13 +54,9 @@ impl Technique for PatchTechnique {
             ctx,
             targets,
             &PatchFrameInputs {
-                camera: frame.camera,
-                lights: frame.lights,
-                ambient: frame.ambient,
+                shared: frame.shared,
                 head_color: frame.prepared.material.head_color,
                 patches: frame.hair_visible.then_some(&self.geometry),
-                head: frame.head,
-                clear: frame.clear,
             },
         )?;
         let memory = Memory {

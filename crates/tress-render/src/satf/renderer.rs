@@ -26,31 +26,22 @@ use super::{
 };
 use crate::gpu::types::SatfParams;
 use crate::gpu::{FrameEncoder, TargetFormats, Targets, Timings, clear_loads, uniform_buffer};
-use crate::head::HeadGeometry;
 use crate::inputs::{frame_sphere, lights_uniform};
 use crate::services::FrameServices;
 use crate::stats::{SlotInfo, StatsReadback};
-use crate::{Camera, DirectionalLight, GpuContext, RenderError};
+use crate::{Camera, GpuContext, RenderError, SharedInputs};
 
 /// Everything a SATF frame draws. Plain data: the application owns geometry and targets.
 #[derive(Clone, Copy, Debug)]
 pub struct SatfFrameInputs<'a> {
-    /// The camera; its viewport must equal the targets' size.
-    pub camera: Camera,
-    /// Directional lights (at most [`MAX_LIGHTS`]).
-    pub lights: &'a [DirectionalLight],
-    /// Ambient light, linear RGB.
-    pub ambient: Vec3,
+    /// The camera, lights, ambient light, opaque head and clear colour.
+    pub shared: SharedInputs<'a>,
     /// Head mesh color, linear RGB.
     pub head_color: Vec3,
     /// The clusters, if any.
     pub clusters: Option<&'a SatfGeometry>,
     /// The HRIR database the clusters were prepared for.
     pub database: &'a SatfDatabase,
-    /// The opaque head, drawn first, if any.
-    pub head: Option<&'a HeadGeometry>,
-    /// Clear color and depth first (linear RGBA), or `None` to draw over what the targets hold.
-    pub clear: Option<wgpu::Color>,
 }
 
 /// What [`SatfRenderer::render`] returns (the frame is waited for).
@@ -263,8 +254,12 @@ impl SatfRenderer {
         inputs: &SatfFrameInputs<'_>,
     ) -> Result<SatfFrameStats, RenderError> {
         // ---- validate inputs (never panic on user data)
-        let size = targets.validate_view(self.formats, &inputs.camera, inputs.lights.len())?;
-        if !(inputs.ambient.is_finite() && inputs.head_color.is_finite()) {
+        let size = targets.validate_view(
+            self.formats,
+            &inputs.shared.camera,
+            inputs.shared.lights.len(),
+        )?;
+        if !(inputs.shared.ambient.is_finite() && inputs.head_color.is_finite()) {
             return Err(RenderError::Invalid(
                 "ambient light or head color is not finite".into(),
             ));
@@ -282,17 +277,21 @@ impl SatfRenderer {
         }
 
         // ---- uniforms and the back-to-front order
-        let bounds = frame_sphere(geometry.map(|g| g.bounds), inputs.head.map(|h| h.bounds));
+        let bounds = frame_sphere(
+            geometry.map(|g| g.bounds),
+            inputs.shared.head.map(|h| h.bounds),
+        );
         let (lights, light_cameras) = lights_uniform(
-            inputs.ambient,
-            inputs.lights,
+            inputs.shared.ambient,
+            inputs.shared.lights,
             Some((bounds, self.shadow_targets.size)),
         )?;
         let params = self.params(geometry, db, lights.count, inputs.head_color);
         let order = geometry.map_or_else(Vec::new, |g| {
-            back_to_front(&inputs.camera, &g.cluster_bounds)
+            back_to_front(&inputs.shared.camera, &g.cluster_bounds)
         });
-        self.services.write_view(ctx, &inputs.camera, &lights);
+        self.services
+            .write_view(ctx, &inputs.shared.camera, &lights);
         ctx.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
 
@@ -327,7 +326,7 @@ impl SatfRenderer {
                         &self.shadow_targets,
                         &light_cameras,
                         Some(g),
-                        inputs.head,
+                        inputs.shared.head,
                         |i, _| {
                             begun = true;
                             timer.render_writes("satf/shadowing", i == 0, false)
@@ -348,10 +347,10 @@ impl SatfRenderer {
                 let mut pass = targets.begin_pass(
                     &mut stages.encoder,
                     "satf/head/pass",
-                    clear_loads(inputs.clear),
+                    clear_loads(inputs.shared.clear),
                     timer.render_writes("satf/head", true, true),
                 );
-                if let Some(head) = inputs.head {
+                if let Some(head) = inputs.shared.head {
                     self.head.draw(
                         ctx,
                         &mut pass,

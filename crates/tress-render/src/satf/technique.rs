@@ -67,14 +67,10 @@ impl Technique for SatfTechnique {
             ctx,
             targets,
             &SatfFrameInputs {
-                camera: frame.camera,
-                lights: frame.lights,
-                ambient: frame.ambient,
+                shared: frame.shared,
                 head_color: frame.prepared.material.head_color,
                 clusters: frame.hair_visible.then_some(&self.geometry),
                 database: &self.database,
-                head: frame.head,
-                clear: frame.clear,
             },
         )?;
         let memory = Memory {

@@ -54,8 +54,8 @@ use crate::satf::scene::SatfScene;
 use crate::scene_setup::{PreparedScene, frame_bounds};
 use crate::{
     Camera, DirectionalLight, FrameStats, GpuContext, HeadGeometry, LinearImage, PatchFrameStats,
-    RenderError, SatfDatabase, SatfFrameStats, SatfGeometry, StatsReadback, TargetFormats, Targets,
-    Timings,
+    RenderError, SatfDatabase, SatfFrameStats, SatfGeometry, SharedInputs, StatsReadback,
+    TargetFormats, Targets, Timings,
 };
 
 /// The techniques a session draws, in the order the viewer cycles them (the names of
@@ -550,11 +550,13 @@ impl Session {
         self.prepare(ctx)?;
         let kind = self.technique;
         let frame = SharedFrame {
-            camera: *camera,
-            lights: lights.unwrap_or(&self.prepared.lights),
-            ambient: Vec3::splat(AMBIENT),
-            head: self.head.as_ref(),
-            clear: self.prepared.clear_color(),
+            shared: SharedInputs {
+                camera: *camera,
+                lights: lights.unwrap_or(&self.prepared.lights),
+                ambient: Vec3::splat(AMBIENT),
+                head: self.head.as_ref(),
+                clear: self.prepared.clear_color(),
+            },
             prepared: &self.prepared,
             hair_visible: self.hair_visible,
             kind,

@@ -6,28 +6,17 @@
 //! auto ([`crate::hybrid::StrandTechnique`]), patches ([`crate::patches::PatchTechnique`]) and
 //! SATF ([`crate::satf::SatfTechnique`]).
 
-use glam::Vec3;
-
 use super::{FrameDetail, Memory};
 use crate::scene_setup::PreparedScene;
-use crate::{
-    Camera, DirectionalLight, GpuContext, HeadGeometry, RenderError, StatsReadback, Targets,
-    Timings,
-};
+use crate::{GpuContext, HeadGeometry, RenderError, SharedInputs, StatsReadback, Targets, Timings};
 use tress_scene::TechniqueKind;
 
 /// What the session gives every technique for a frame.
 pub(crate) struct SharedFrame<'a> {
-    /// The camera; its viewport is the targets' size.
-    pub(crate) camera: Camera,
-    /// The frame's lights.
-    pub(crate) lights: &'a [DirectionalLight],
-    /// Ambient light, linear RGB.
-    pub(crate) ambient: Vec3,
-    /// The opaque head (every character's heads and bodies in one mesh).
-    pub(crate) head: Option<&'a HeadGeometry>,
-    /// The scene's background, opaque.
-    pub(crate) clear: Option<wgpu::Color>,
+    /// The camera (its viewport is the targets' size), the frame's lights, the ambient light,
+    /// the opaque head (every character's heads and bodies in one mesh) and the scene's
+    /// background, opaque.
+    pub(crate) shared: SharedInputs<'a>,
     /// The scene's hair, materials and settings.
     pub(crate) prepared: &'a PreparedScene,
     /// Draw the hair (else only the head and background).
@@ -39,7 +28,7 @@ pub(crate) struct SharedFrame<'a> {
 impl SharedFrame<'_> {
     /// Bytes of the head's buffers (every technique's memory counts them).
     pub(crate) fn head_bytes(&self) -> u64 {
-        self.head.map_or(0, HeadGeometry::bytes)
+        self.shared.head.map_or(0, HeadGeometry::bytes)
     }
 }
 

@@ -12,7 +12,7 @@ use glam::{Mat4, Vec3};
 use tress_hair::HairAsset;
 use tress_render::{
     COLOR_FORMAT, Camera, DirectionalLight, FrameInputs, FrameStats, GpuContext, HeadGeometry,
-    Material, OffscreenTargets, Renderer, StrandSettings, TriMesh, read_texture,
+    Material, OffscreenTargets, Renderer, SharedInputs, StrandSettings, TriMesh, read_texture,
 };
 
 /// The GPU context shared by a test binary, or `None` when `TRESS_SKIP_GPU_TESTS=1` and there is
@@ -145,13 +145,15 @@ pub fn render_sphere_golden(
         [size, size],
     );
     let inputs = FrameInputs {
-        camera,
-        lights,
-        ambient: Vec3::splat(0.06),
+        shared: SharedInputs {
+            camera,
+            lights,
+            ambient: Vec3::splat(0.06),
+            head: Some(&head),
+            clear: Some(BACKGROUND),
+        },
         material: Material::default(),
         hair: Some(&hair),
-        head: Some(&head),
-        clear: Some(BACKGROUND),
         objects: &[],
     };
     let stats = renderer.render(ctx, &t.targets(), &inputs).expect("frame");
