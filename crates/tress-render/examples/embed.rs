@@ -1,8 +1,9 @@
 //! Embedding tress in an application that owns its wgpu device and render targets.
 //!
 //! The application creates the instance, adapter, device, and the color and depth textures
-//! itself, wraps the device in a `GpuContext` (which only checks capabilities), and calls the
-//! renderer with views of its own textures. Writes `embed.png` (or the path given).
+//! itself, wraps the device in a `GpuContext` (which only checks capabilities), gives its own
+//! hair and head to a `Session` (`Session::with_hair`, the one frame driver every front end
+//! uses) and renders into views of its own textures. Writes `embed.png` (or the path given).
 //!
 //! ```text
 //! cargo run -p tress-render --example embed -- out.png
@@ -13,9 +14,10 @@ use std::f32::consts::{PI, TAU};
 use anyhow::Context;
 use glam::Vec3;
 use tress_hair::HairAsset;
+use tress_render::scene_setup::PreparedHair;
+use tress_render::session::{FrameDetail, Session, SessionOptions};
 use tress_render::{
-    Camera, DirectionalLight, FrameInputs, GpuContext, HeadGeometry, Material, Renderer,
-    SharedInputs, StrandSettings, TargetFormats, Targets, TriMesh,
+    Camera, DirectionalLight, GpuContext, Material, TargetFormats, Targets, TechniqueKind, TriMesh,
 };
 
 /// Strands rooted on the upper half of a sphere, falling under "gravity".
@@ -89,16 +91,20 @@ fn main() -> anyhow::Result<()> {
     let color_view = color.create_view(&Default::default());
     let depth_view = depth.create_view(&Default::default());
 
-    // ---- tress
-    let mut renderer = Renderer::new(
-        &ctx,
-        TargetFormats {
-            color: color_format,
-        },
-        StrandSettings::default(),
-    )?;
-    let head = HeadGeometry::new(&ctx, &TriMesh::uv_sphere(Vec3::ZERO, 9.5, 32, 48))?;
-    let strands = renderer.upload_hair(&ctx, &hair(10.0, 3000, 16)?)?;
+    // ---- tress: the application's hair and head, the scene's settings (defaults here)
+    let mut scene = tress_scene::Scene::default();
+    scene.background = Vec3::new(0.2, 0.22, 0.25);
+    let hair = PreparedHair {
+        asset: hair(10.0, 3000, 16)?,
+        material: Material::default(),
+        technique: TechniqueKind::Strands,
+    };
+    let head = TriMesh::uv_sphere(Vec3::ZERO, 9.5, 32, 48);
+    let formats = TargetFormats {
+        color: color_format,
+    };
+    let options = SessionOptions::default();
+    let mut session = Session::with_hair(&ctx, formats, scene, vec![hair], Some(head), options)?;
     let camera = Camera::look_at(
         Vec3::new(30.0, 8.0, 45.0),
         Vec3::new(0.0, -3.0, 0.0),
@@ -112,33 +118,17 @@ fn main() -> anyhow::Result<()> {
         direction: Vec3::new(-0.5, -0.7, -0.3) * TAU,
         ..Default::default()
     }];
-    let inputs = FrameInputs {
-        shared: SharedInputs {
-            camera,
-            lights: &lights,
-            ambient: Vec3::splat(0.08),
-            head: Some(&head),
-            clear: Some(wgpu::Color {
-                r: 0.2,
-                g: 0.22,
-                b: 0.25,
-                a: 1.0,
-            }),
-        },
-        material: Material::default(),
-        hair: Some(&strands),
-        objects: &[],
+    let targets = Targets {
+        color: &color_view,
+        depth: &depth_view,
     };
-    let stats = renderer.render(
-        &ctx,
-        &Targets {
-            color: &color_view,
-            depth: &depth_view,
-        },
-        &inputs,
-    )?;
-    if let Some(gpu) = &stats.gpu {
-        println!("{}", gpu.timings);
+    let frame = session.render(&ctx, &targets, &camera, Some(&lights))?;
+    if let Some(timings) = &frame.timings {
+        println!("{timings}");
+    }
+    if let FrameDetail::Strands(stats) = &frame.detail
+        && let Some(gpu) = &stats.gpu
+    {
         println!(
             "PPLL: {} of {} nodes used, {} dropped",
             gpu.ppll.used, gpu.ppll.capacity, gpu.ppll.dropped

@@ -243,6 +243,20 @@ impl Material {
             .map_err(|e| RenderError::setting("material fibre", e))
     }
 
+    /// Scheuermann's two shifted highlights of this material, with a white diffuse multiplier
+    /// (`base_color` is the base).
+    pub fn hair_lighting(&self) -> tress_shading::HairLighting {
+        tress_shading::HairLighting {
+            diffuse_color: Vec3::ONE,
+            primary_exponent: self.primary_exponent,
+            primary_color: self.primary_color,
+            primary_shift: self.primary_shift,
+            secondary_color: self.secondary_color,
+            secondary_exponent: self.secondary_exponent,
+            secondary_shift: self.secondary_shift,
+        }
+    }
+
     /// The GPU uniform.
     pub fn uniform(&self) -> MaterialUniform {
         MaterialUniform {

@@ -257,3 +257,66 @@ fn moving_the_hair_of_two_characters_moves_each_one() {
     let one = s.prepared().objects[0].asset.clone();
     assert!(s.update_hair_positions(&ctx, &one).is_err());
 }
+
+/// An application's own hair and head, given in memory (`Session::with_hair`, what
+/// `examples/embed.rs` does), draw exactly as the same hair and head loaded from a scene; a key
+/// that would reload hair or head from the scene is refused by name.
+#[test]
+fn hair_given_in_memory_draws_like_the_same_hair_loaded_from_a_scene() {
+    let Some(ctx) = common::gpu() else { return };
+    let targets = OffscreenTargets::new(&ctx, SIZE, COLOR_FORMAT).unwrap();
+    let given = |loaded: &Session, head: bool| {
+        let prepared = loaded.prepared();
+        let mut scene = loaded.scene().clone();
+        scene.hair.clear();
+        let options = SessionOptions {
+            satf_database: Some(Box::new(|_| Ok(common::small_satf_database(48)))),
+            ..SessionOptions::default()
+        };
+        let head = prepared.head.clone().filter(|_| head);
+        let hair = prepared.objects.clone();
+        Session::with_hair(&ctx, TargetFormats::default(), scene, hair, head, options).unwrap()
+    };
+    let image = |s: &mut Session, t: &str| {
+        s.set_technique(&ctx, t).unwrap();
+        let camera = s.camera(SIZE);
+        s.render(&ctx, &targets.targets(), &camera, None).unwrap();
+        read_texture(&ctx, &targets.color).unwrap().pixels
+    };
+    // With the head: the patches sort their cards around the given mesh's bounding sphere, the
+    // loaded scene's around its generated head's centre, so they are compared without it.
+    let mut loaded = session(&ctx);
+    let mut with_head = given(&loaded, true);
+    assert_eq!(
+        with_head.prepared().hair_counts(),
+        loaded.prepared().hair_counts()
+    );
+    assert_eq!(
+        with_head.camera(SIZE),
+        loaded.camera(SIZE),
+        "the scene's camera"
+    );
+    let mut headless = session(&ctx);
+    headless.set(&ctx, "head.generated=false").unwrap();
+    let mut without_head = given(&headless, false);
+    for t in TECHNIQUES {
+        let mut pairs = vec![(&mut headless, &mut without_head)];
+        if t != "patches" {
+            pairs.push((&mut loaded, &mut with_head));
+        }
+        for (a, b) in pairs {
+            let (a, b) = (image(a, t), image(b, t));
+            let differ = a.iter().zip(&b).filter(|(p, q)| p != q).count();
+            assert_eq!(differ, 0, "{t}: {differ} of {} pixels differ", a.len());
+        }
+    }
+    let e = with_head
+        .set(&ctx, "head.generated=true")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("head.generated") && e.contains("with_hair"),
+        "{e}"
+    );
+    with_head.set(&ctx, "strands.alpha=0.5").unwrap();
+}

@@ -94,7 +94,7 @@ fn session_frames_equal_the_renderers_frames() {
     let mut renderer = PatchRenderer::new(
         &ctx,
         TargetFormats::default(),
-        patch_settings(&scene).unwrap(),
+        patch_settings(&scene, prepared.first_hair()).unwrap(),
     )
     .unwrap();
     let geometry = renderer
@@ -124,7 +124,7 @@ fn session_frames_equal_the_renderers_frames() {
         "patches"
     );
 
-    let settings = satf_settings(&scene).unwrap();
+    let settings = satf_settings(&scene, prepared.first_hair()).unwrap();
     let volume = load_clusters(&scene, &settings, prepared.hair().as_deref()).unwrap();
     let db = SatfDatabase::new(&ctx, &common::small_satf_database(48)).unwrap();
     let geometry = SatfGeometry::new(&ctx, &volume, &db, &settings.settings).unwrap();

@@ -55,7 +55,7 @@ use tress_scene::{HeadSource, Scene};
 
 use super::{PatchSettings, RenderScheme, TextureSlot, load_texture_png};
 use crate::scene_setup::PreparedScene;
-use crate::{RenderError, Shading};
+use crate::{Material, RenderError, Shading};
 
 /// `[patches.generator]`.
 #[derive(Deserialize, Default, Debug)]
@@ -152,15 +152,19 @@ macro_rules! set {
     ($dst:expr, $src:expr, $($f:ident),*) => { $( if let Some(v) = $src.$f { $dst.$f = v; } )* };
 }
 
-/// Patch settings from the scene: defaults, then the first hair entry's material, then
-/// `[patches]` (see the module docs). Validated.
-pub fn patch_settings(scene: &Scene) -> Result<PatchSettings, RenderError> {
+/// Patch settings from the scene: defaults, then `first_hair`, the first character's material
+/// (`None` without hair; [`PreparedScene::first_hair`]), then `[patches]` (see the module docs).
+/// Validated.
+pub fn patch_settings(
+    scene: &Scene,
+    first_hair: Option<&Material>,
+) -> Result<PatchSettings, RenderError> {
     let t = table(scene)?;
     let mut s = PatchSettings::default();
-    if let Some(h) = scene.hair.first() {
-        s.lighting = h.material.hair_lighting();
-        s.textures.base_color = h.material.base_color;
-        s.fiber = h.material.fiber()?;
+    if let Some(m) = first_hair {
+        s.lighting = m.hair_lighting();
+        s.textures.base_color = m.base_color;
+        s.fiber = m.fiber;
     }
     if let Some(name) = &t.scheme {
         s.scheme = name.parse::<RenderScheme>()?;
@@ -222,8 +226,8 @@ impl PatchSource {
     }
 }
 
-/// The patch source the scene selects (see the module docs).
-pub fn patch_source(scene: &Scene) -> Result<PatchSource, RenderError> {
+/// The patch source the scene selects (see the module docs) for a scene with or without hair.
+pub fn patch_source(scene: &Scene, has_hair: bool) -> Result<PatchSource, RenderError> {
     let t = table(scene)?;
     let obj = t.obj.as_deref().map(|p| scene.resolve(p));
     match (t.source.as_deref().unwrap_or("auto"), obj) {
@@ -231,9 +235,9 @@ pub fn patch_source(scene: &Scene) -> Result<PatchSource, RenderError> {
         ("obj", None) => Err(RenderError::Invalid(
             "patches.source = \"obj\" needs patches.obj".into(),
         )),
-        ("auto", None) if !scene.hair.is_empty() => Ok(PatchSource::Strands),
+        ("auto", None) if has_hair => Ok(PatchSource::Strands),
         ("auto", None) | ("generated", _) => Ok(PatchSource::Generated),
-        ("strands", _) if scene.hair.is_empty() => Err(RenderError::Invalid(
+        ("strands", _) if !has_hair => Err(RenderError::Invalid(
             "patches.source = \"strands\" needs a [[hair]] entry".into(),
         )),
         ("strands", _) => Ok(PatchSource::Strands),
@@ -327,8 +331,8 @@ pub fn parse_sides(s: &str) -> Result<AoSides, RenderError> {
 /// the scene loaded with [`PreparedScene::load`] (its hair and head are used, not reloaded).
 pub fn load_patches(scene: &Scene, prepared: &PreparedScene) -> Result<PatchScene, RenderError> {
     let t = table(scene)?;
-    let settings = patch_settings(scene)?;
-    let source = patch_source(scene)?;
+    let settings = patch_settings(scene, prepared.first_hair())?;
+    let source = patch_source(scene, prepared.first_hair().is_some())?;
     let head_center = match scene.head_source() {
         HeadSource::Generated(g) => Some(g.center()),
         _ => prepared.head.as_ref().map(|h| h.bounding_sphere().0),
@@ -401,6 +405,12 @@ pub fn is_obj(path: &Path) -> bool {
 mod tests {
     use super::*;
 
+    /// The first hair entry's material, as the session prepares it.
+    fn first(scene: &Scene) -> Option<crate::Material> {
+        let m = &scene.hair.first()?.material;
+        Some(crate::scene_setup::hair_material(m).unwrap())
+    }
+
     #[test]
     fn settings_take_material_then_table_and_reject_unknown_keys() {
         let text = "[[hair]]\ngenerator = { style = \"straight\", strands = 10 }\n\
@@ -408,7 +418,7 @@ mod tests {
                     [patches]\nsecondary_shift = 0.3\nscheme = \"3-pass\"\n\
                     textures = { seed = 7 }\n";
         let mut scene = Scene::from_str(text, ".").unwrap();
-        let s = patch_settings(&scene).unwrap();
+        let s = patch_settings(&scene, first(&scene).as_ref()).unwrap();
         assert_eq!(s.lighting.primary_shift, -0.2);
         assert_eq!(s.lighting.secondary_shift, 0.3);
         assert_eq!(s.scheme, RenderScheme::ThreePass);
@@ -416,17 +426,19 @@ mod tests {
         assert_eq!(s.textures.base_color, Vec3::new(0.5, 0.4, 0.3));
         scene.apply_override("patches.primary_shift=0.05").unwrap();
         scene.apply_override("patches.alpha_ref=0.5").unwrap();
-        let s = patch_settings(&scene).unwrap();
+        let s = patch_settings(&scene, first(&scene).as_ref()).unwrap();
         assert_eq!((s.lighting.primary_shift, s.alpha_ref), (0.05, 0.5));
 
         let bad = Scene::from_str("\n[patches]\nshift = 1.0\n", ".").unwrap();
-        let e = patch_settings(&bad).unwrap_err().to_string();
+        let e = patch_settings(&bad, first(&bad).as_ref())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("shift") && e.contains("line 3"), "{e}");
         let bad = Scene::from_str("[patches]\nscheme = \"5-pass\"\n", ".").unwrap();
-        assert!(patch_settings(&bad).is_err());
+        assert!(patch_settings(&bad, first(&bad).as_ref()).is_err());
         let bad = Scene::from_str("[patches]\nalpha_ref = 2.0\n", ".").unwrap();
         assert!(
-            patch_settings(&bad)
+            patch_settings(&bad, first(&bad).as_ref())
                 .unwrap_err()
                 .to_string()
                 .contains("alpha_ref")
@@ -439,7 +451,7 @@ mod tests {
                     [hair.material]\neumelanin = 0.2\nbeta_m = 0.4\n\
                     [patches]\nshading = \"marschner\"\n";
         let mut scene = Scene::from_str(text, ".").unwrap();
-        let s = patch_settings(&scene).unwrap();
+        let s = patch_settings(&scene, first(&scene).as_ref()).unwrap();
         assert_eq!(s.shading, Shading::Marschner);
         assert_eq!(s.fiber, scene.hair[0].material.fiber().unwrap());
         assert_eq!(s.fiber.beta_m, 0.4);
@@ -448,30 +460,41 @@ mod tests {
         scene
             .apply_override("patches.shading=\"kajiya-kay\"")
             .unwrap();
-        let e = patch_settings(&scene).unwrap_err().to_string();
+        let e = patch_settings(&scene, first(&scene).as_ref())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("patches.shading"), "{e}");
         scene.apply_override("patches.shading=\"phong\"").unwrap();
-        assert!(patch_settings(&scene).is_err());
+        assert!(patch_settings(&scene, first(&scene).as_ref()).is_err());
     }
 
     #[test]
     fn sources_follow_the_table_and_the_scene() {
         let s = Scene::from_str("", ".").unwrap();
-        assert_eq!(patch_source(&s).unwrap(), PatchSource::Generated);
+        assert_eq!(
+            patch_source(&s, !s.hair.is_empty()).unwrap(),
+            PatchSource::Generated
+        );
         let s = Scene::from_str("[patches]\nobj = \"cards.obj\"\n", "dir").unwrap();
         assert_eq!(
-            patch_source(&s).unwrap(),
+            patch_source(&s, !s.hair.is_empty()).unwrap(),
             PatchSource::Obj(Path::new("dir").join("cards.obj"))
         );
         let hair = "[[hair]]\ngenerator = { style = \"straight\", strands = 10 }\n";
         let s = Scene::from_str(hair, ".").unwrap();
-        assert_eq!(patch_source(&s).unwrap(), PatchSource::Strands);
+        assert_eq!(
+            patch_source(&s, !s.hair.is_empty()).unwrap(),
+            PatchSource::Strands
+        );
         let s =
             Scene::from_str(&format!("{hair}[patches]\nsource = \"generated\"\n"), ".").unwrap();
-        assert_eq!(patch_source(&s).unwrap(), PatchSource::Generated);
+        assert_eq!(
+            patch_source(&s, !s.hair.is_empty()).unwrap(),
+            PatchSource::Generated
+        );
         for bad in ["source = \"obj\"", "source = \"strands\"", "source = \"x\""] {
             let s = Scene::from_str(&format!("[patches]\n{bad}\n"), ".").unwrap();
-            assert!(patch_source(&s).is_err(), "{bad}");
+            assert!(patch_source(&s, !s.hair.is_empty()).is_err(), "{bad}");
         }
     }
 

@@ -27,7 +27,7 @@ impl PatchTechnique {
         readback: StatsReadback,
     ) -> Result<Self, RenderError> {
         let cards = load_patches(scene, prepared)?;
-        let settings = patch_settings(scene)?;
+        let settings = patch_settings(scene, prepared.first_hair())?;
         let mut renderer = if cards.textures_from_files {
             PatchRenderer::with_textures(ctx, formats, settings, cards.textures.clone())?
         } else {

@@ -185,11 +185,16 @@ fn invalid(message: impl Into<String>) -> RenderError {
     RenderError::Invalid(message.into())
 }
 
-/// The `[satf]` table over the defaults (see the module docs). Errors name the key.
-pub fn satf_settings(scene: &Scene) -> Result<SatfScene, RenderError> {
+/// The `[satf]` table over the defaults, the colours from `first_hair`, the first character's
+/// material (`None` without hair; [`crate::PreparedScene::first_hair`]); see the module docs.
+/// Errors name the key.
+pub fn satf_settings(
+    scene: &Scene,
+    first_hair: Option<&crate::Material>,
+) -> Result<SatfScene, RenderError> {
     let t: SatfTable = scene.technique_settings("satf")?;
     let mut s = SatfSettings::default();
-    if let Some(m) = scene.hair.first().map(|h| &h.material) {
+    if let Some(m) = first_hair {
         s.lighting.f_dif = m.base_color;
         s.lighting.f_spe2 = m.base_color;
     }
@@ -302,7 +307,7 @@ pub fn satf_settings(scene: &Scene) -> Result<SatfScene, RenderError> {
     let clusters = match t.clusters.as_deref().unwrap_or("auto") {
         "fit" => ClusterSource::Fit(fit),
         "generate" => ClusterSource::Generate(style),
-        "auto" if scene.hair.is_empty() => ClusterSource::Generate(style),
+        "auto" if first_hair.is_none() => ClusterSource::Generate(style),
         "auto" => ClusterSource::Fit(fit),
         other => {
             return Err(invalid(format!(
@@ -352,6 +357,12 @@ pub fn load_clusters(
 mod tests {
     use super::*;
 
+    /// The first hair entry's material, as the session prepares it.
+    fn first(scene: &Scene) -> Option<crate::Material> {
+        let m = &scene.hair.first()?.material;
+        Some(crate::scene_setup::hair_material(m).unwrap())
+    }
+
     #[test]
     fn generated_clusters_move_with_the_generated_head() {
         let text = "[[hair]]\ngenerator = { style = \"straight\", strands = 10 }\n\
@@ -362,7 +373,7 @@ mod tests {
         );
         let load = |t: &str| {
             let scene = Scene::from_str(t, ".").unwrap();
-            let settings = satf_settings(&scene).unwrap();
+            let settings = satf_settings(&scene, first(&scene).as_ref()).unwrap();
             let HeadSource::Generated(g) = scene.head_source() else {
                 panic!("generated head expected")
             };
@@ -391,7 +402,7 @@ mod tests {
             "/scenes",
         )
         .unwrap();
-        let s = satf_settings(&scene).unwrap();
+        let s = satf_settings(&scene, first(&scene).as_ref()).unwrap();
         assert_eq!(s.settings.sampling.st, 8);
         assert_eq!(s.settings.k_shadow, 0.3);
         assert_eq!(s.settings.shadow_approx, ShadowApprox::Linear);
@@ -401,25 +412,27 @@ mod tests {
         assert_eq!(s.database, None);
 
         let scene = Scene::from_str("[satf]\ndatabase = \"db.satfdb\"\n", "/scenes").unwrap();
-        let s = satf_settings(&scene).unwrap();
+        let s = satf_settings(&scene, first(&scene).as_ref()).unwrap();
         assert_eq!(s.database, Some(PathBuf::from("/scenes/db.satfdb")));
         assert!(!s.bake_explicit);
         // No hair: auto generates.
         assert!(matches!(s.clusters, ClusterSource::Generate(_)));
 
         let bad = Scene::from_str("\n[satf]\nkk = 1\n", ".").unwrap();
-        let err = satf_settings(&bad).unwrap_err().to_string();
+        let err = satf_settings(&bad, first(&bad).as_ref())
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("kk") && err.contains("line 3"), "{err}");
         let bad = Scene::from_str("[satf]\nmap_rows = 0\n", ".").unwrap();
         assert!(
-            satf_settings(&bad)
+            satf_settings(&bad, first(&bad).as_ref())
                 .unwrap_err()
                 .to_string()
                 .contains("map_rows")
         );
         let bad = Scene::from_str("[satf]\nclusters = \"x\"\n", ".").unwrap();
         assert!(
-            satf_settings(&bad)
+            satf_settings(&bad, first(&bad).as_ref())
                 .unwrap_err()
                 .to_string()
                 .contains("satf.clusters")
@@ -429,20 +442,23 @@ mod tests {
             ".",
         )
         .unwrap();
-        let ClusterSource::Fit(fit) = satf_settings(&scene).unwrap().clusters else {
+        let ClusterSource::Fit(fit) = satf_settings(&scene, first(&scene).as_ref())
+            .unwrap()
+            .clusters
+        else {
             panic!("satf.clusters = \"fit\" fits")
         };
         assert_eq!((fit.min_radius, fit.stray_split), (Some(0.002), 0.5));
         let bad = Scene::from_str("[satf]\nfit = { stray_split = -1 }\n", ".").unwrap();
         assert!(
-            satf_settings(&bad)
+            satf_settings(&bad, first(&bad).as_ref())
                 .unwrap_err()
                 .to_string()
                 .contains("stray_split")
         );
         let bad = Scene::from_str("[satf]\nbake = { samples = 0 }\n", ".").unwrap();
         assert!(
-            satf_settings(&bad)
+            satf_settings(&bad, first(&bad).as_ref())
                 .unwrap_err()
                 .to_string()
                 .contains("satf.bake")
@@ -457,7 +473,7 @@ mod tests {
             ".",
         )
         .unwrap();
-        let s = satf_settings(&scene).unwrap();
+        let s = satf_settings(&scene, first(&scene).as_ref()).unwrap();
         assert_eq!(s.settings.lighting.f_dif, Vec3::new(0.5, 0.25, 0.125));
         assert_eq!(s.settings.lighting.f_spe2, Vec3::new(0.5, 0.25, 0.125));
         assert!(matches!(s.clusters, ClusterSource::Fit(_)));

@@ -32,7 +32,7 @@ impl SatfTechnique {
         loader: Option<&mut DatabaseLoader>,
         readback: StatsReadback,
     ) -> Result<Self, RenderError> {
-        let settings = satf_settings(scene)?;
+        let settings = satf_settings(scene, prepared.first_hair())?;
         let loader = loader.ok_or_else(|| {
             RenderError::Invalid(
                 "the satf technique needs an HRIR database (none was given)".into(),

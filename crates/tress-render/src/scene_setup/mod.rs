@@ -111,6 +111,12 @@ impl PreparedScene {
         }
     }
 
+    /// The first character's material (`None` without hair): what patches and SATF, which draw
+    /// the characters merged, shade every strand with.
+    pub fn first_hair(&self) -> Option<&Material> {
+        self.objects.first().map(|o| &o.material)
+    }
+
     /// The box around every hair entry (`None` without hair).
     pub fn hair_bounds(&self) -> Option<Aabb> {
         self.objects

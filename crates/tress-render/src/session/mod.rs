@@ -51,11 +51,11 @@ use technique::{SharedFrame, Technique, TechniqueFrame};
 
 use crate::patches::scene::{PatchScene, patch_settings};
 use crate::satf::scene::SatfScene;
-use crate::scene_setup::{PreparedScene, frame_bounds};
+use crate::scene_setup::{PreparedHair, PreparedScene, frame_bounds};
 use crate::{
     Camera, DirectionalLight, FrameStats, GpuContext, HeadGeometry, LinearImage, PatchFrameStats,
     RenderError, SatfDatabase, SatfFrameStats, SatfGeometry, SharedInputs, StatsReadback,
-    TargetFormats, Targets, Timings,
+    TargetFormats, Targets, Timings, TriMesh,
 };
 
 /// The techniques a session draws, in the order the viewer cycles them (the names of
@@ -153,6 +153,9 @@ pub struct Session {
     loader: Option<DatabaseLoader>,
     readback: StatsReadback,
     hair_visible: bool,
+    /// The hair and head were given by the application ([`Session::with_hair`]), not loaded
+    /// from the scene.
+    given: bool,
 }
 
 impl std::fmt::Debug for Session {
@@ -212,6 +215,56 @@ impl Session {
         options: SessionOptions,
     ) -> Result<Session, RenderError> {
         let (scene, prepared) = load_scene(scene, options.auto_frame, &options.overrides)?;
+        Self::assemble(ctx, formats, scene, prepared, options, false)
+    }
+
+    /// A session over hair and a head the application holds in memory (its own assets, as in
+    /// `examples/embed.rs`): each of `hair` is a character, `head` the opaque mesh; `scene`
+    /// gives the technique, settings, lights, camera and background (its `[[hair]]` and
+    /// `[head]` are not read). [`Session::set`] on a key that would reload hair or head from the
+    /// scene is refused.
+    pub fn with_hair(
+        ctx: &GpuContext,
+        formats: TargetFormats,
+        mut scene: Scene,
+        hair: Vec<PreparedHair>,
+        head: Option<TriMesh>,
+        options: SessionOptions,
+    ) -> Result<Session, RenderError> {
+        scene.apply_overrides(&options.overrides)?;
+        technique_name(&scene.technique)?;
+        // The head is the given mesh (the cards' sort centre is its bounding sphere's).
+        scene.head = tress_scene::HeadSpec {
+            generated: Some(false),
+            ..Default::default()
+        };
+        let given = |scene: &Scene| -> Result<PreparedScene, RenderError> {
+            let settings = PreparedScene::load_settings(scene)?;
+            Ok(PreparedScene {
+                material: hair.first().map_or(settings.material, |h| h.material),
+                objects: hair.clone(),
+                head: head.clone(),
+                ..settings
+            })
+        };
+        let mut prepared = given(&scene)?;
+        if let (true, Some(b)) = (options.auto_frame, prepared.hair_bounds()) {
+            frame_bounds(&mut scene, b.min, b.max);
+            scene.apply_overrides(&options.overrides)?;
+            prepared = given(&scene)?;
+        }
+        Self::assemble(ctx, formats, scene, prepared, options, true)
+    }
+
+    /// The session over a loaded scene: the head uploaded and the technique prepared.
+    fn assemble(
+        ctx: &GpuContext,
+        formats: TargetFormats,
+        scene: Scene,
+        prepared: PreparedScene,
+        options: SessionOptions,
+        given: bool,
+    ) -> Result<Session, RenderError> {
         let head = prepared
             .head
             .as_ref()
@@ -230,6 +283,7 @@ impl Session {
             loader: options.satf_database,
             readback: options.readback,
             hair_visible: true,
+            given,
         };
         session.prepare(ctx)?;
         // Cards without hair (an OBJ) are framed on the cards.
@@ -328,7 +382,9 @@ impl Session {
                     self.satf = None;
                     // The patches take their highlight constants and fibre from the material.
                     if let Some(p) = &mut self.patches {
-                        p.renderer.set_settings(ctx, patch_settings(&scene)?)?;
+                        let first = scene.hair.first().map(|_| &prepared.material);
+                        p.renderer
+                            .set_settings(ctx, patch_settings(&scene, first)?)?;
                     }
                 }
                 if let Some(s) = &mut self.strands {
@@ -367,6 +423,10 @@ impl Session {
                 }
                 Ok(())
             }
+            _ if self.given => Err(invalid(format!(
+                "{key}: this session's hair and head were given by the application \
+                 (Session::with_hair); they are not loaded from the scene"
+            ))),
             _ => {
                 // Hair, head, materials: load everything again.
                 let (scene, prepared) = load_scene(scene, false, &[])?;

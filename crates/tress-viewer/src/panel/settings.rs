@@ -257,7 +257,7 @@ fn fiber_section(ui: &mut Ui, session: &Session, form: &mut Form<'_>) {
 }
 
 fn patch_section(ui: &mut Ui, session: &Session, form: &mut Form<'_>) {
-    let p = match patch_settings(session.scene()) {
+    let p = match patch_settings(session.scene(), session.prepared().first_hair()) {
         Ok(p) => p,
         Err(e) => {
             ui.colored_label(Color32::LIGHT_RED, e.to_string());
@@ -320,7 +320,7 @@ fn patch_section(ui: &mut Ui, session: &Session, form: &mut Form<'_>) {
 }
 
 fn satf_section(ui: &mut Ui, session: &Session, form: &mut Form<'_>) {
-    let s = match satf_settings(session.scene()) {
+    let s = match satf_settings(session.scene(), session.prepared().first_hair()) {
         Ok(s) => s.settings,
         Err(e) => {
             ui.colored_label(Color32::LIGHT_RED, e.to_string());
