@@ -308,7 +308,7 @@ fn every_pass_of_the_scheme_is_timed() {
         expect.extend(scheme.passes().iter().map(|p| p.name));
         assert_eq!(names, expect, "{}", scheme.name());
         assert!(p.iter().all(|t| t.ms >= 0.0 && t.ms.is_finite()));
-        assert_eq!(f.stats.timings_frame, Some(f.stats.frame));
+        assert_eq!(f.stats.gpu_frame, Some(f.stats.frame));
     }
 }
 

@@ -52,8 +52,10 @@ pub struct PatchFrameStats {
     /// Per-pass GPU times: this frame's with [`StatsReadback::Wait`], the newest available
     /// otherwise (`None` when none has arrived yet).
     pub timings: Option<Timings>,
-    /// The frame `timings` belong to.
-    pub timings_frame: Option<u64>,
+    /// The frame `timings` belong to: this one with [`StatsReadback::Wait`], the newest that has
+    /// arrived with [`StatsReadback::Deferred`] (as [`crate::SatfFrameStats::gpu_frame`] and
+    /// [`crate::GpuReport::frame`]).
+    pub gpu_frame: Option<u64>,
 }
 
 /// The patch renderer with its head pass: renders into caller-provided targets.
@@ -388,7 +390,7 @@ impl PatchRenderer {
             size,
             triangles: patches.map_or(0, |p| p.triangle_count()),
             scheme,
-            timings_frame: report.as_ref().map(|r| r.frame),
+            gpu_frame: report.as_ref().map(|r| r.frame),
             timings: report.map(|r| r.timings),
         })
     }
