@@ -384,3 +384,49 @@ fn bad_inputs_are_errors_not_panics() {
         (0, RenderScheme::ThreePass)
     );
 }
+
+/// With deferred readback (the viewer's), a patch frame never waits for its own results: it
+/// reports the newest earlier frame whose results arrived (read before it is submitted), as
+/// every technique does through the shared frame services.
+#[test]
+fn deferred_patch_frames_report_an_earlier_frame() {
+    let Some(ctx) = common::gpu() else {
+        return;
+    };
+    let mut r = PatchRenderer::with_textures(
+        &ctx,
+        TargetFormats::default(),
+        PatchSettings::default(),
+        textures(),
+    )
+    .expect("renderer");
+    let geometry = r
+        .upload_patches(&ctx, &mesh(&[(0.0, true, 1.0)]), Vec3::ZERO)
+        .expect("upload");
+    let t = OffscreenTargets::new(&ctx, [SIZE, SIZE], COLOR_FORMAT).expect("targets");
+    let inputs = PatchFrameInputs {
+        shared: SharedInputs {
+            camera: common::ortho_camera(SIZE),
+            lights: &[],
+            ambient: Vec3::ONE,
+            head: None,
+            clear: Some(wgpu::Color::BLACK),
+        },
+        head_color: Vec3::ONE,
+        patches: Some(&geometry),
+    };
+    // Waiting (the default): the frame reports itself.
+    let waited = r.render(&ctx, &t.targets(), &inputs).expect("frame");
+    assert_eq!(waited.gpu_frame, Some(waited.frame));
+    r.set_stats_readback(tress_render::StatsReadback::Deferred);
+    let first = r.render(&ctx, &t.targets(), &inputs).expect("frame");
+    assert!(
+        first.gpu_frame.is_none_or(|g| g < first.frame),
+        "a deferred frame waited for itself: {first:?}"
+    );
+    ctx.wait_idle().expect("idle");
+    let next = r.render(&ctx, &t.targets(), &inputs).expect("frame");
+    let g = next.gpu_frame.expect("the earlier frames' results arrived");
+    assert!(g >= first.frame && g < next.frame, "{next:?}");
+    assert_eq!(next.timings.is_some(), next.gpu_frame.is_some());
+}
