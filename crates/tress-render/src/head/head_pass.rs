@@ -3,6 +3,7 @@
 
 use crate::bind::Layouts;
 use crate::gpu::pipeline::{RasterPipeline, depth_test, pipeline_layout};
+use crate::gpu::{Targets, clear_loads};
 use crate::head::{HEAD_VERTEX_LAYOUT, HeadGeometry};
 use crate::{GpuContext, RenderError, shaders};
 
@@ -36,10 +37,31 @@ impl HeadPass {
         Ok(HeadPass { pipeline })
     }
 
-    /// Record the head draw into an open render pass (bind groups 0 and 1 already set).
-    pub(crate) fn draw(&self, pass: &mut wgpu::RenderPass<'_>, head: &HeadGeometry) {
-        self.pipeline.draw(pass, head);
+    /// The frame's head pass (see [`HeadPipeline::encode`]) with the view and lighting groups.
+    pub(crate) fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &Targets<'_>,
+        clear: Option<wgpu::Color>,
+        writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        groups: [&wgpu::BindGroup; 2],
+        head: Option<&HeadGeometry>,
+    ) {
+        let pass = HeadPassInfo {
+            label: "head/head_pass/pass",
+            clear,
+            writes,
+        };
+        self.pipeline.encode(encoder, targets, pass, &groups, head);
     }
+}
+
+/// How a frame's head pass begins: its label, whether it clears the targets first, and its
+/// timestamp writes.
+pub(crate) struct HeadPassInfo<'a> {
+    pub(crate) label: &'static str,
+    pub(crate) clear: Option<wgpu::Color>,
+    pub(crate) writes: Option<wgpu::RenderPassTimestampWrites<'a>>,
 }
 
 /// The opaque head of every technique: `vs_main` and `fs_main` of the technique's head shader
@@ -67,9 +89,24 @@ impl HeadPipeline {
         )
     }
 
-    /// Record the head draw into an open render pass (its bind groups already set).
-    pub(crate) fn draw(&self, pass: &mut wgpu::RenderPass<'_>, head: &HeadGeometry) {
-        pass.set_pipeline(&self.0);
-        head.draw(pass);
+    /// Every technique's head pass: the frame's first pass over the targets, clearing them
+    /// when `info.clear` is set, then the head (if any) drawn with `groups` bound from 0.
+    pub(crate) fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &Targets<'_>,
+        info: HeadPassInfo<'_>,
+        groups: &[&wgpu::BindGroup],
+        head: Option<&HeadGeometry>,
+    ) {
+        let mut pass =
+            targets.begin_pass(encoder, info.label, clear_loads(info.clear), info.writes);
+        if let Some(head) = head {
+            for (i, g) in groups.iter().enumerate() {
+                pass.set_bind_group(i as u32, *g, &[]);
+            }
+            pass.set_pipeline(&self.0);
+            head.draw(&mut pass);
+        }
     }
 }

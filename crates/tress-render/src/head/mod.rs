@@ -8,7 +8,7 @@ use glam::Vec3;
 use wgpu::util::DeviceExt;
 
 pub use head_pass::HeadPass;
-pub(crate) use head_pass::HeadPipeline;
+pub(crate) use head_pass::{HeadPassInfo, HeadPipeline};
 
 pub use tress_hair::generate::TriMesh;
 

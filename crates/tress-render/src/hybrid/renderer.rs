@@ -42,7 +42,7 @@ pub use objects::{HairObject, MAX_OBJECTS};
 
 use crate::bind::Layouts;
 use crate::gpu::types::{self, VolumeParams};
-use crate::gpu::{GpuTimer, TargetFormats, Targets, clear_loads};
+use crate::gpu::{GpuTimer, TargetFormats, Targets};
 use crate::head::HeadPass;
 use crate::hybrid::{
     FramePlan, HybridSettings, LodBlend, LodLayers, TechniqueKind, check_technique,
@@ -390,19 +390,14 @@ impl Renderer {
                 );
             }
             // ---- opaque head, depth written
-            {
-                let mut pass = targets.begin_pass(
-                    &mut encoder,
-                    "head/head_pass/pass",
-                    clear_loads(inputs.shared.clear),
-                    timer.render_writes("head", true, true),
-                );
-                if let Some(head) = inputs.shared.head {
-                    pass.set_bind_group(0, &slots[0].view_group, &[]);
-                    pass.set_bind_group(1, &slots[0].lighting_group, &[]);
-                    head_pass.draw(&mut pass, head);
-                }
-            }
+            head_pass.encode(
+                &mut encoder,
+                targets,
+                inputs.shared.clear,
+                timer.render_writes("head", true, true),
+                [&slots[0].view_group, &slots[0].lighting_group],
+                inputs.shared.head,
+            );
             let part = |i: usize, geometry| OitPart {
                 view: &slots[i].view_group,
                 lighting: &slots[i].lighting_group,

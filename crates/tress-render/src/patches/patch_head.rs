@@ -1,7 +1,8 @@
 //! [`PatchHead`], owner of `patch_head.wgsl`.
 
+use crate::gpu::Targets;
 use crate::gpu::pipeline::pipeline_layout;
-use crate::head::{HeadGeometry, HeadPipeline};
+use crate::head::{HeadGeometry, HeadPassInfo, HeadPipeline};
 use crate::{GpuContext, RenderError, shaders};
 
 /// Draws the opaque head first, with depth writes (`Less`), so the patch passes' depth test
@@ -39,8 +40,21 @@ impl PatchHead {
         })
     }
 
-    /// Record the head draw into an open render pass (bind groups 0 and 1 already set).
-    pub(crate) fn draw(&self, pass: &mut wgpu::RenderPass<'_>, head: &HeadGeometry) {
-        self.pipeline.draw(pass, head);
+    /// The frame's head pass (see [`HeadPipeline::encode`]) with the view and lights groups.
+    pub(crate) fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &Targets<'_>,
+        clear: Option<wgpu::Color>,
+        writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        groups: [&wgpu::BindGroup; 2],
+        head: Option<&HeadGeometry>,
+    ) {
+        let pass = HeadPassInfo {
+            label: "patches/head/pass",
+            clear,
+            writes,
+        };
+        self.pipeline.encode(encoder, targets, pass, &groups, head);
     }
 }

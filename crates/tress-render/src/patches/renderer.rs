@@ -20,7 +20,7 @@ use super::{
     RenderScheme, TextureSlot, ZPrime,
 };
 use crate::gpu::types::{FiberCache, PatchParamsGpu};
-use crate::gpu::{TargetFormats, Targets, Timings, clear_loads, uniform_buffer};
+use crate::gpu::{TargetFormats, Targets, Timings, uniform_buffer};
 use crate::services::FrameServices;
 use crate::stats::{SlotInfo, StatsReadback};
 use crate::{GpuContext, RenderError, SharedInputs};
@@ -345,19 +345,14 @@ impl PatchRenderer {
                     label: Some("patches/frame/encoder"),
                 });
             // ---- the head first, depth written (slide "Performance Tuning")
-            {
-                let mut pass = targets.begin_pass(
-                    &mut encoder,
-                    "patches/head/pass",
-                    clear_loads(inputs.shared.clear),
-                    timer.render_writes("head", true, true),
-                );
-                if let Some(head) = inputs.shared.head {
-                    pass.set_bind_group(0, view, &[]);
-                    pass.set_bind_group(1, lighting, &[]);
-                    head_pass.draw(&mut pass, head);
-                }
-            }
+            head_pass.encode(
+                &mut encoder,
+                targets,
+                inputs.shared.clear,
+                timer.render_writes("head", true, true),
+                [view, lighting],
+                inputs.shared.head,
+            );
             // ---- the scheme's passes over the static inside-to-outside index buffer
             if let Some(geometry) = patches {
                 for p in shade.passes() {

@@ -3,8 +3,9 @@
 use super::cluster_shadow::ShadowTargets;
 use super::passes::{Slot, layout};
 use crate::bind::bind_group;
+use crate::gpu::Targets;
 use crate::gpu::pipeline::pipeline_layout;
-use crate::head::{HeadGeometry, HeadPipeline};
+use crate::head::{HeadGeometry, HeadPassInfo, HeadPipeline};
 use crate::{GpuContext, RenderError, shaders};
 
 /// Draws the opaque head first with depth writes, lit by Lambert with the clusters' shadows. The
@@ -41,29 +42,35 @@ impl SatfHead {
         })
     }
 
-    /// Record the head draw into an open render pass.
-    pub(crate) fn draw(
+    /// The frame's head pass (see [`HeadPipeline::encode`]), lit through the clusters' shadow
+    /// maps.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn encode(
         &self,
         ctx: &GpuContext,
-        pass: &mut wgpu::RenderPass<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &Targets<'_>,
+        info: HeadPassInfo<'_>,
         uniforms: [&wgpu::Buffer; 3],
         shadow: &ShadowTargets,
-        head: &HeadGeometry,
+        head: Option<&HeadGeometry>,
     ) {
         let [camera, lights, params] = uniforms;
-        let bind = bind_group(
-            ctx,
-            "satf/head/bind-group",
-            &self.layout,
-            &[
-                (0, camera.as_entire_binding()),
-                (1, lights.as_entire_binding()),
-                (2, params.as_entire_binding()),
-                (11, wgpu::BindingResource::TextureView(&shadow.depth_array)),
-                (12, wgpu::BindingResource::TextureView(&shadow.ids_array)),
-            ],
-        );
-        pass.set_bind_group(0, &bind, &[]);
-        self.pipeline.draw(pass, head);
+        let bind = head.map(|_| {
+            bind_group(
+                ctx,
+                "satf/head/bind-group",
+                &self.layout,
+                &[
+                    (0, camera.as_entire_binding()),
+                    (1, lights.as_entire_binding()),
+                    (2, params.as_entire_binding()),
+                    (11, wgpu::BindingResource::TextureView(&shadow.depth_array)),
+                    (12, wgpu::BindingResource::TextureView(&shadow.ids_array)),
+                ],
+            )
+        });
+        let groups: Vec<&wgpu::BindGroup> = bind.iter().collect();
+        self.pipeline.encode(encoder, targets, info, &groups, head);
     }
 }

@@ -25,7 +25,8 @@ use super::{
     SatfGeometry, SatfHead, SatfSettings, TextureMap,
 };
 use crate::gpu::types::SatfParams;
-use crate::gpu::{FrameEncoder, TargetFormats, Targets, Timings, clear_loads, uniform_buffer};
+use crate::gpu::{FrameEncoder, TargetFormats, Targets, Timings, uniform_buffer};
+use crate::head::HeadPassInfo;
 use crate::inputs::{frame_sphere, lights_uniform};
 use crate::services::FrameServices;
 use crate::stats::{SlotInfo, StatsReadback};
@@ -343,23 +344,20 @@ impl SatfRenderer {
                 stages.cut("satf/lighting")?;
             }
             // ---- opaque head, depth written
-            {
-                let mut pass = targets.begin_pass(
-                    &mut stages.encoder,
-                    "satf/head/pass",
-                    clear_loads(inputs.shared.clear),
-                    timer.render_writes("satf/head", true, true),
-                );
-                if let Some(head) = inputs.shared.head {
-                    self.head.draw(
-                        ctx,
-                        &mut pass,
-                        [u.camera, u.lights, u.params],
-                        &self.shadow_targets,
-                        head,
-                    );
-                }
-            }
+            let info = HeadPassInfo {
+                label: "satf/head/pass",
+                clear: inputs.shared.clear,
+                writes: timer.render_writes("satf/head", true, true),
+            };
+            self.head.encode(
+                ctx,
+                &mut stages.encoder,
+                targets,
+                info,
+                [u.camera, u.lights, u.params],
+                &self.shadow_targets,
+                inputs.shared.head,
+            );
             stages.cut("satf/head")?;
             // ---- texture mapping, shading and blending (§6.5)
             if let Some(g) = geometry {
