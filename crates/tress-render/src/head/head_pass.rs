@@ -1,5 +1,5 @@
-//! [`HeadPass`], owner of `head_pass.wgsl`, and `HeadPipeline`, the head pipeline every
-//! technique draws its head with.
+//! [`HeadPass`], owner of `head_pass.wgsl` (and, built with another shader, the patch
+//! technique's head), and `HeadPipeline`, the head pipeline every technique draws its head with.
 
 use crate::bind::Layouts;
 use crate::gpu::pipeline::{RasterPipeline, depth_test, pipeline_layout};
@@ -7,10 +7,13 @@ use crate::gpu::{Targets, clear_loads};
 use crate::head::{HEAD_VERTEX_LAYOUT, HeadGeometry};
 use crate::{GpuContext, RenderError, shaders};
 
-/// Draws the opaque head mesh with depth writes, Lambert-lit with ADSM shadows.
+/// Draws the opaque head mesh with depth writes, Lambert-lit: with ADSM shadows
+/// (`head_pass.wgsl`, the strands, volume and hybrid), or unshadowed (`patch_head.wgsl`).
 #[derive(Debug)]
 pub struct HeadPass {
     pipeline: HeadPipeline,
+    /// The render pass's label.
+    label: String,
 }
 
 impl HeadPass {
@@ -19,25 +22,45 @@ impl HeadPass {
         layouts: &Layouts,
         color_format: wgpu::TextureFormat,
     ) -> Result<Self, RenderError> {
-        let module = shaders::create_module(ctx, "head/head_pass.wgsl", "head/head_pass/shader")?;
-        let pipeline = ctx.scoped("creating the head pipeline", || {
+        let groups = [&layouts.view, &layouts.lighting];
+        Self::with_shader(
+            ctx,
+            ["head/head_pass.wgsl", "head/head_pass"],
+            groups,
+            color_format,
+        )
+    }
+
+    /// The head drawn by `shader` (`[path, label prefix]`), its groups 0 and 1 laid out as
+    /// `groups`.
+    pub(crate) fn with_shader(
+        ctx: &GpuContext,
+        [path, label]: [&'static str; 2],
+        groups: [&wgpu::BindGroupLayout; 2],
+        color_format: wgpu::TextureFormat,
+    ) -> Result<Self, RenderError> {
+        let module = shaders::create_module(ctx, path, &format!("{label}/shader"))?;
+        let pipeline = ctx.scoped("creating a head pipeline", || {
             let layout = pipeline_layout(
                 ctx,
-                "head/head_pass/layout",
-                &[Some(&layouts.view), Some(&layouts.lighting)],
+                &format!("{label}/layout"),
+                &[Some(groups[0]), Some(groups[1])],
             );
             HeadPipeline::new(
                 ctx,
-                "head/head_pass/pipeline",
+                &format!("{label}/pipeline"),
                 &module,
                 &layout,
                 color_format,
             )
         })?;
-        Ok(HeadPass { pipeline })
+        Ok(HeadPass {
+            pipeline,
+            label: format!("{label}/pass"),
+        })
     }
 
-    /// The frame's head pass (see [`HeadPipeline::encode`]) with the view and lighting groups.
+    /// The frame's head pass (see [`HeadPipeline::encode`]) with groups 0 and 1.
     pub(crate) fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -48,7 +71,7 @@ impl HeadPass {
         head: Option<&HeadGeometry>,
     ) {
         let pass = HeadPassInfo {
-            label: "head/head_pass/pass",
+            label: &self.label,
             clear,
             writes,
         };
@@ -59,7 +82,7 @@ impl HeadPass {
 /// How a frame's head pass begins: its label, whether it clears the targets first, and its
 /// timestamp writes.
 pub(crate) struct HeadPassInfo<'a> {
-    pub(crate) label: &'static str,
+    pub(crate) label: &'a str,
     pub(crate) clear: Option<wgpu::Color>,
     pub(crate) writes: Option<wgpu::RenderPassTimestampWrites<'a>>,
 }

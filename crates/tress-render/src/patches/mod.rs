@@ -92,7 +92,7 @@ pub use passes::{
     AlphaTest, BLEND, FOUR_PASS, PassShader, PatchPass, PatchPipelineParts, RenderScheme,
     THREE_PASS,
 };
-pub use patch_head::PatchHead;
+pub(crate) use patch_head::patch_head;
 pub use patch_shade::PatchShade;
 pub use renderer::{PatchFrameInputs, PatchFrameStats, PatchRenderer};
 pub(crate) use technique::PatchTechnique;

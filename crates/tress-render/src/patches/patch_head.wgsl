@@ -1,7 +1,7 @@
 // The head of the patch technique, drawn first with depth writes (Scheuermann 2004, slide
 // "Performance Tuning": "usually half the hair is hidden behind the head – draw head first"):
 // two-sided Lambert plus ambient, unshadowed (the patches' self-shadowing is their baked AO).
-// Owner: `PatchHead`.
+// Owner: `HeadPass` (built by `patches::patch_head`).
 
 #include "common/head.wgsl"
 #include "common/lights.wgsl"

@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! uniforms     camera, lights, head material, patch constants
-//! head         clear (optional), opaque head with depth writes          (PatchHead)
+//! head         clear (optional), opaque head with depth writes          (HeadPass)
 //! 4-pass       patches/z_prime  alpha-tested depth only, no culling      (ZPrime)
 //!              patches/opaque   full shader, depth Equal, no Z writes    (PatchShade)
 //!              patches/back     front faces culled, no Z writes, Less    (PatchShade)
@@ -16,7 +16,7 @@ use tress_hair::patches::HairTextures;
 
 use super::passes::PassShader;
 use super::{
-    PASS_NAMES, PatchGeometry, PatchHead, PatchLayouts, PatchSettings, PatchShade, PatchTextures,
+    PASS_NAMES, PatchGeometry, PatchLayouts, PatchSettings, PatchShade, PatchTextures,
     RenderScheme, TextureSlot, ZPrime,
 };
 use crate::gpu::types::{FiberCache, PatchParamsGpu};
@@ -72,7 +72,7 @@ pub struct PatchRenderer {
     textures_given: bool,
     textures: PatchTextures,
     material_group: wgpu::BindGroup,
-    head: PatchHead,
+    head: crate::head::HeadPass,
     z_prime: ZPrime,
     shade: PatchShade,
     services: FrameServices,
@@ -157,7 +157,7 @@ impl PatchRenderer {
         let material_group =
             Self::material_group(ctx, &layouts.material, &patch_params, &textures)?;
         Ok(PatchRenderer {
-            head: PatchHead::new(ctx, &layouts.view, &layouts.lights, formats.color)?,
+            head: super::patch_head(ctx, &layouts.view, &layouts.lights, formats.color)?,
             z_prime: ZPrime::new(ctx, &layouts, formats.color)?,
             shade: PatchShade::new(ctx, &layouts, formats.color, settings.passes())?,
             formats,
