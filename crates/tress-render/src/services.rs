@@ -8,7 +8,7 @@
 //! services rather than borrowing the session's. A frame goes: [`FrameServices::earlier`]
 //! (deferred results, read before the frame is submitted), [`FrameServices::write_view`],
 //! [`FrameServices::begin`], the technique's passes into a [`crate::gpu::FrameEncoder`],
-//! [`FrameServices::submit`], [`FrameServices::results`].
+//! [`FrameTicket::submit`], [`FrameServices::results`].
 
 use crate::gpu::types::{CameraUniform, LightsUniform};
 use crate::gpu::{GpuTimer, TimerMode, Timings, uniform_buffer};
