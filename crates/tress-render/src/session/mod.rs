@@ -238,20 +238,22 @@ impl Session {
             generated: Some(false),
             ..Default::default()
         };
-        let given = |scene: &Scene| -> Result<PreparedScene, RenderError> {
-            let settings = PreparedScene::load_settings(scene)?;
-            Ok(PreparedScene {
-                material: hair.first().map_or(settings.material, |h| h.material),
-                objects: hair.clone(),
-                head: head.clone(),
-                ..settings
-            })
+        let settings = PreparedScene::load_settings(&scene)?;
+        // The first character's material gives the head its colour (as a loaded scene's does).
+        let material = hair.first().map_or(settings.material, |h| h.material);
+        let mut prepared = PreparedScene {
+            material,
+            objects: hair,
+            head,
+            ..settings
         };
-        let mut prepared = given(&scene)?;
         if let (true, Some(b)) = (options.auto_frame, prepared.hair_bounds()) {
             frame_bounds(&mut scene, b.min, b.max);
             scene.apply_overrides(&options.overrides)?;
-            prepared = given(&scene)?;
+            prepared = PreparedScene {
+                material,
+                ..prepared.reload_settings(&scene)?
+            };
         }
         Self::assemble(ctx, formats, scene, prepared, options, true)
     }
