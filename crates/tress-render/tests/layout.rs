@@ -248,8 +248,13 @@ fn volume_types_match_wgsl() {
                 occlusion_bias,
                 shade_samples,
                 optical_width,
-                _pad1,
-                _pad2
+                highlights,
+                highlight_exponent,
+                view_eye,
+                view_orthographic,
+                view_forward,
+                light_count,
+                light_dirs
             ]
         );
     }

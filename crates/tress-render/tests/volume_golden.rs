@@ -20,8 +20,9 @@ fn strands() -> StrandSettings {
 }
 
 /// At the scene's scale (head radius 1, about 10 cm; 1200 sparse strands), with the occlusion
-/// model, isosurface and ambient occlusion the goldens were recorded with (the defaults before
-/// issue 13's volume/strands agreement work).
+/// model, isosurface, ambient occlusion and mean-tangent highlights the goldens were recorded
+/// with (the defaults before issue 13's volume/strands agreement work; the integrated highlights
+/// are checked against the strands in `tests/volume_render.rs`).
 fn volume() -> VolumeSettings {
     VolumeSettings {
         resolution: 64,
@@ -32,6 +33,7 @@ fn volume() -> VolumeSettings {
         iso: 2.0,
         ao: true,
         strand_width: 0.01,
+        highlights: tress_render::volume::Highlights::MeanTangent,
         ..Default::default()
     }
 }

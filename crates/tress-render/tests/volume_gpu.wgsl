@@ -1,6 +1,7 @@
 // Test harness: evaluates the functions of common/volume.wgsl on a grid of inputs (one invocation
-// per case) over a small density volume, so tests/volume_shading_gpu.rs can compare them with the
-// CPU twins in tress_shading::volume and tress_shading::voxelize.
+// per case) over a small density volume and its highlights, so tests/volume_shading_gpu.rs can
+// compare them with the CPU twins in tress_shading::volume, tress_shading::voxelize and
+// tress_shading::highlights.
 
 #include "common/volume.wgsl"
 
@@ -21,6 +22,7 @@ struct Case {
 @group(0) @binding(1) var<storage, read_write> results: array<vec4f>;
 @group(0) @binding(2) var volume: texture_3d<f32>;
 @group(0) @binding(3) var volume_sampler: sampler;
+@group(0) @binding(4) var highlights: texture_3d<f32>;
 
 const OUTPUTS: u32 = 9u;
 
@@ -66,5 +68,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let tangent = select(l * c.ao.w, vec3f(0.0), n % 8u == 0u);
     results[o + 8u] = vec4f(
         strand_optical_depth(c.s.x, tangent, normalize(x - vec3f(8.0)), c.x.w, c.ao.x),
-        volume_tangent_coherence(volume, volume_sampler, vt, x), 0.0, 0.0);
+        volume_tangent_coherence(volume, volume_sampler, vt, x),
+        volume_highlight(highlights, volume, vt, x, n % 4u),
+        f32(quantize_highlight(c.ao.w)) * 1000.0 + f32(highlight_texel(n % 65025u, 1u + n % 255u)));
 }

@@ -545,11 +545,12 @@ fn volume_and_strands_agree_on_where_the_hair_is() {
         return;
     }
     let mut s = scene();
-    // Hair FLIP over the hair's pixels, measured: 0.302 at 5 and 0.209 at 8 (IoU 0.934 and
-    // 0.951; before the opacity-weighted composite and ADSM's expected visibility 0.329 and
-    // 0.260). Bounded 10% above, against a frame without hair as the baseline.
+    // Hair FLIP over the hair's pixels, measured: 0.272 at 5 and 0.172 at 8 (IoU 0.934 and
+    // 0.951; with the mean tangent's highlights 0.302 and 0.209, and before the
+    // opacity-weighted composite and ADSM's expected visibility 0.329 and 0.260). Bounded 10%
+    // above, against a frame without hair as the baseline.
     let mut last = f32::INFINITY;
-    for (distance, bound) in [(5.0, 0.33), (8.0, 0.23)] {
+    for (distance, bound) in [(5.0, 0.30), (8.0, 0.19)] {
         let Agreement {
             strands,
             volume,
@@ -620,4 +621,63 @@ fn under_marschner_the_volume_still_matches_the_strands() {
         assert!(flip < last);
         last = flip;
     }
+}
+
+/// The brightest tenth of `image`'s hair pixels by luminance (its highlights), over `mask`.
+fn highlight_mask(image: &LinearImage, mask: &[bool]) -> Vec<bool> {
+    let lum = |p: &[f32; 4]| 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+    let mut hair: Vec<f32> = image
+        .pixels
+        .iter()
+        .zip(mask)
+        .filter(|(_, m)| **m)
+        .map(|(p, _)| lum(p))
+        .collect();
+    hair.sort_by(f32::total_cmp);
+    let cut = hair[hair.len() * 9 / 10];
+    image
+        .pixels
+        .iter()
+        .zip(mask)
+        .map(|(p, m)| *m && lum(p) > cut)
+        .collect()
+}
+
+/// `volume.highlights = "strands"` (the voxelizer integrates the strands' own Kajiya-Kay lobes
+/// per voxel) against the paper's lobe of the mean tangent: the volume's highlights sit where
+/// the strands' are, and the frame is closer to the strands' (issue 13's ponytail: hair FLIP
+/// 0.113 → 0.083 at the scene's distance).
+#[test]
+fn integrated_highlights_sit_where_the_strands_highlights_are() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let mut s = scene();
+    let mut measure = |highlights| {
+        let settings = VolumeSettings {
+            highlights,
+            ..volume()
+        };
+        s.renderer
+            .set_volume_settings(&s.ctx, settings)
+            .expect("volume settings");
+        let a = agreement(&mut s, 5.0);
+        let (hs, hv) = (
+            highlight_mask(&a.strands, &a.union),
+            highlight_mask(&a.volume, &a.union),
+        );
+        let both = hs.iter().zip(&hv).filter(|(x, y)| **x && **y).count();
+        let either = hs.iter().zip(&hv).filter(|(x, y)| **x || **y).count();
+        save(&format!("highlights_{highlights}"), &a.volume);
+        (a.flip, both as f32 / either.max(1) as f32)
+    };
+    let (flip_lobes, iou_lobes) = measure(tress_render::volume::Highlights::Strands);
+    let (flip_mean, iou_mean) = measure(tress_render::volume::Highlights::MeanTangent);
+    eprintln!(
+        "hair FLIP {flip_lobes:.3} (mean tangent {flip_mean:.3}); highlight IoU \
+         {iou_lobes:.3} (mean tangent {iou_mean:.3})"
+    );
+    // Measured: hair FLIP 0.272 against 0.295, highlight IoU 0.387 against 0.334.
+    assert!(flip_lobes < 0.97 * flip_mean, "{flip_lobes} vs {flip_mean}");
+    assert!(iou_lobes > iou_mean + 0.03, "{iou_lobes} vs {iou_mean}");
 }

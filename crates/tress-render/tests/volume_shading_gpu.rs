@@ -1,7 +1,8 @@
 //! Design rule 6 for the volume: the functions of `shaders/common/volume.wgsl` (volume shadows,
 //! local ambient occlusion, ADSM's expected visibility, density gradient and normal, fake
 //! transparency and the composite's transmittance and shading points, the strands' optical depth, LOD factor and dither,
-//! tangent quantization, hashing) evaluated on the GPU over a grid of inputs and a small density
+//! tangent quantization, hashing, the integrated highlights' lookup and quantization) evaluated on
+//! the GPU over a grid of inputs and a small density
 //! volume sampled by the hardware's trilinear filter, against the CPU twins in
 //! `tress_shading::volume` / `tress_shading::voxelize`.
 
@@ -132,6 +133,23 @@ fn run(ctx: &tress_render::GpuContext, cases: &[Case], density: &[f32]) -> Vec<[
         ..Default::default()
     });
     let view = texture.create_view(&Default::default());
+    let highlights: Vec<u8> = highlight_texels().into_iter().flatten().collect();
+    let highlight_texture = ctx.device.create_texture_with_data(
+        &ctx.queue,
+        &wgpu::TextureDescriptor {
+            label: Some("test/volume/highlights"),
+            size,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D3,
+            format: tress_render::volume::VOLUME_FORMAT,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        &highlights,
+    );
+    let highlight_view = highlight_texture.create_view(&Default::default());
     run_cases(
         ctx,
         "test/volume",
@@ -141,8 +159,20 @@ fn run(ctx: &tress_render::GpuContext, cases: &[Case], density: &[f32]) -> Vec<[
         &[
             (2, wgpu::BindingResource::TextureView(&view)),
             (3, wgpu::BindingResource::Sampler(&sampler)),
+            (4, wgpu::BindingResource::TextureView(&highlight_view)),
         ],
     )
+}
+
+/// Each texel's four highlight bytes: every light different, some zero (empty and lit texels
+/// side by side, so the density weighting matters).
+fn highlight_texels() -> Vec<[u8; 4]> {
+    (0..(RES * RES * RES) as usize)
+        .map(|i| {
+            let b = |k: usize| ((i * (37 + 16 * k) + 11 * k) % 301).min(255) as u8;
+            [b(0), b(1), b(2), b(3)]
+        })
+        .collect()
 }
 
 /// `|gpu - cpu| <= abs + rel · |cpu|`, with a message naming the quantity and the case.
@@ -165,6 +195,7 @@ fn volume_functions_match_the_cpu_twins() {
     let bytes = texels(&density);
     let tangents = cpu::TexelVolume::new(RES, &bytes, 0.25).expect("texels");
     let mut coherences = Vec::new();
+    let mut highlight_values = Vec::new();
     // The volume is filtered in the shader in f32 from exact texels (not by the hardware's
     // filter, whose weights have 8 fractional bits on lavapipe), so the marches agree to
     // rounding; the exact functions are compared exactly.
@@ -248,6 +279,21 @@ fn volume_functions_match_the_cpu_twins() {
             1e-4,
         );
         coherences.push(coherence);
+        // The highlight texture's density-weighted trilinear mean, with the densities of the
+        // volume texture's counts (quarter strands).
+        let quarter: Vec<f32> = bytes.iter().map(|b| f32::from(b[3]) * 0.25).collect();
+        let lit = highlight_texels();
+        let hv = cpu::highlights::HighlightVolume::new(RES, &lit, &quarter).expect("highlights");
+        let h = cpu::highlights::volume_highlight(&hv, x, (n % 4) as usize);
+        close("volume_highlight", i, r[8][2], h, 1e-5, 1e-5);
+        highlight_values.push(h);
+        let q = cpu::highlights::quantize_highlight(c.ao[3]);
+        let t = cpu::highlights::highlight_texel(n % 65025, 1 + n % 255);
+        assert_eq!(
+            r[8][3],
+            (q * 1000 + u32::from(t)) as f32,
+            "quantize_highlight, highlight_texel, case {i}"
+        );
         let g = cpu::density_gradient(&vol, x);
         for k in 0..3 {
             close("density_gradient", i, r[1][k], g[k], 1e-4, 1e-4);
@@ -296,6 +342,11 @@ fn volume_functions_match_the_cpu_twins() {
         "{:?}",
         coherences.iter().copied().fold(1.0f32, f32::min)
     );
+    // The highlights vary over the cases (the lookup reads different texels and lights).
+    let (lo, hi) = highlight_values
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(a, b), &h| (a.min(h), b.max(h)));
+    assert!(hi - lo > 0.3, "highlights {lo}..{hi}");
     // The grid is not trivial: the shadow rays met strands, the AO varied.
     let shadows: f32 = cases
         .iter()

@@ -1,7 +1,8 @@
 //! The GPU voxelizer against its CPU reference (`tress_shading::voxelize`, Jansson 2019 §3.3):
 //! the AABB and grid, the exact per-voxel strand counts in both modes, the mean tangents within
-//! the quantization error, the resolve into the 3D texture and the occupancy blocks, and the
-//! capacity check with its drop counter (design rule 8).
+//! the quantization error, the integrated highlights within one level, the resolve into the 3D
+//! textures and the occupancy blocks, and the capacity check with its drop counter (design rule
+//! 8).
 
 mod common;
 
@@ -9,6 +10,7 @@ use glam::{UVec3, Vec3};
 use tress_hair::HairAsset;
 use tress_render::volume::{VolumeReadback, VolumeSettings, Voxelizer};
 use tress_render::{RenderError, StrandGeometry, VoxelizeMode};
+use tress_shading::highlights::HighlightView;
 use tress_shading::voxelize::{self, SUBVOXEL_BITS, VoxelCounts, VoxelGrid};
 
 const RES: u32 = 40;
@@ -305,7 +307,8 @@ fn a_volume_over_the_binding_limit_is_a_typed_error() {
         return;
     };
     let limit = ctx.caps.max_storage_binding.min(ctx.caps.max_buffer_size);
-    let res = (1..=1024u32).find(|r| u64::from(*r).pow(3) * 4 > limit);
+    // The largest counter buffer holds the highlight sums, 8 bytes a voxel.
+    let res = (1..=1024u32).find(|r| u64::from(*r).pow(3) * 8 > limit);
     if let Some(res) = res {
         let err = Voxelizer::new(&ctx, res).expect_err("over the limit");
         assert!(matches!(err, RenderError::Limit { .. }), "{err}");
@@ -460,4 +463,89 @@ fn the_tip_fade_weighs_the_tangents_as_the_cpu_reference_does() {
         n > 100 && (0.4..0.8).contains(&ratio),
         "{n} voxels, ratio {ratio}"
     );
+}
+
+#[test]
+fn the_highlights_integrate_the_strands_lobes_as_the_cpu_reference_does() {
+    let Some(ctx) = common::gpu() else {
+        return;
+    };
+    // Three lights (the fourth channel stays empty), the eye close enough that the view
+    // direction turns across the hair, a narrow lobe so highlights are sparse.
+    let view = HighlightView {
+        eye: Vec3::new(0.4, 0.8, 4.0),
+        forward: Vec3::new(-0.1, -0.2, -1.0).normalize(),
+        orthographic: false,
+        lights: vec![
+            Vec3::new(0.3, 0.9, 0.3).normalize(),
+            Vec3::new(-0.8, 0.1, 0.6).normalize(),
+            Vec3::Z,
+        ],
+        exponent: 40.0,
+    };
+    let asset = asset();
+    let s = settings(VoxelizeMode::Segments);
+    let geometry = StrandGeometry::new(&ctx, &asset).expect("upload");
+    let mut voxelizer = Voxelizer::new(&ctx, s.resolution).expect("voxelizer");
+    voxelizer
+        .voxelize_lit(&ctx, &geometry, &s, 0.0, Some(&view))
+        .expect("voxelize");
+    let gpu = voxelizer.read_back(&ctx).expect("readback");
+    let g = cpu_grid(&gpu.grid);
+    let segments = voxelize::strand_segments(asset.strand_offsets());
+    let cpu = voxelize::voxelize_lit(
+        asset.positions(),
+        &segments,
+        &g,
+        s.voxelize,
+        s.max_strands_per_voxel,
+        None,
+        Some(&view),
+    );
+    assert_eq!(gpu.counts, cpu.counts);
+    // The sums: equal up to the rare sample whose GPU `pow` rounds to the other level (at most
+    // one level per sample); the texels within one level of the CPU resolve's.
+    let (mut lit, mut worst) = ([0u32; 4], 0.0f32);
+    for (i, (gs, cs)) in gpu
+        .highlight_sums
+        .iter()
+        .zip(&cpu.highlight_sums)
+        .enumerate()
+    {
+        let n = cpu.counts[i].max(1) as f32;
+        for k in 0..4 {
+            worst = worst.max((gs[k] as f32 - cs[k] as f32).abs() / n);
+            lit[k] += u32::from(cs[k] > 0);
+        }
+        let v = UVec3::new(
+            i as u32 % RES,
+            (i as u32 / RES) % RES,
+            i as u32 / (RES * RES),
+        );
+        let want = voxelize::resolve(&cpu, v, 0, 1.0, s.max_strands_per_voxel).highlights;
+        for k in 0..4 {
+            assert!(
+                gpu.highlight_texels[i][k].abs_diff(want[k]) <= 1,
+                "{v}: highlight texel {:?}, CPU {want:?}",
+                gpu.highlight_texels[i]
+            );
+        }
+    }
+    assert!(
+        worst <= 1.0,
+        "highlight sums differ by {worst} levels per sample"
+    );
+    // Each of the three lights lights some voxels; the absent fourth none.
+    assert!(lit[..3].iter().all(|&n| n > 20), "{lit:?}");
+    assert_eq!(lit[3], 0);
+    // Without a view (or with `volume.highlights = "mean_tangent"`) nothing is integrated.
+    let mut plain = s.clone();
+    plain.highlights = tress_render::volume::Highlights::MeanTangent;
+    voxelizer
+        .voxelize_lit(&ctx, &geometry, &plain, 0.0, Some(&view))
+        .expect("voxelize");
+    let off = voxelizer.read_back(&ctx).expect("readback");
+    assert!(off.highlight_sums.iter().all(|h| *h == [0; 4]));
+    assert!(off.highlight_texels.iter().all(|h| *h == [0; 4]));
+    assert_eq!(off.counts, gpu.counts);
 }

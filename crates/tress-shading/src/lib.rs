@@ -99,6 +99,7 @@ pub mod blend;
 pub mod coverage;
 pub mod dual_scattering;
 pub mod fiber;
+pub mod highlights;
 pub mod kajiya_kay;
 pub mod marschner;
 pub mod scheuermann;

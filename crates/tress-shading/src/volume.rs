@@ -59,6 +59,11 @@ pub struct VolumeSizeError {
     pub got: usize,
 }
 
+/// `Ok` when `len` values fill a `res³ > 0` volume.
+pub(crate) fn check_volume_size(res: u32, len: usize) -> Result<(), VolumeSizeError> {
+    VolumeSizeError::check(res, len)
+}
+
 impl VolumeSizeError {
     /// `Ok` when `len` values fill a `res³ > 0` volume.
     fn check(res: u32, len: usize) -> Result<(), VolumeSizeError> {

@@ -48,6 +48,8 @@
 
 use glam::{IVec3, UVec3, Vec3};
 
+use crate::highlights::{HighlightView, highlight_texel, segment_highlights};
+
 /// Empty voxels kept around the hair's bounding box on its longest side.
 pub const GRID_PAD: u32 = 2;
 /// Fixed-point steps per voxel edge.
@@ -256,6 +258,9 @@ pub struct VoxelCounts {
     pub counts: Vec<u32>,
     /// Per voxel: quantized tangent sums of the accepted samples.
     pub tangent_sums: Vec<UVec3>,
+    /// Per voxel: the accepted samples' quantized highlight sums, a light each
+    /// ([`crate::highlights`]; zero without a [`HighlightView`]).
+    pub highlight_sums: Vec<[u32; 4]>,
     /// Samples deposited in all (accepted and dropped).
     pub deposits: u64,
     /// Samples dropped because their voxel's counter was at the capacity.
@@ -269,12 +274,13 @@ impl VoxelCounts {
             grid,
             counts: vec![0; n],
             tangent_sums: vec![UVec3::ZERO; n],
+            highlight_sums: vec![[0; 4]; n],
             deposits: 0,
             dropped: 0,
         }
     }
 
-    fn deposit(&mut self, q: UVec3, tangent: UVec3, cap: u32) {
+    fn deposit(&mut self, q: UVec3, tangent: UVec3, highlights: [u32; 4], cap: u32) {
         let i = self.grid.index(q >> SUBVOXEL_BITS);
         let old = self.counts[i];
         self.counts[i] += 1;
@@ -283,6 +289,9 @@ impl VoxelCounts {
             self.dropped += 1;
         } else {
             self.tangent_sums[i] += tangent;
+            for (sum, h) in self.highlight_sums[i].iter_mut().zip(highlights) {
+                *sum += h;
+            }
         }
     }
 
@@ -322,26 +331,42 @@ pub fn voxelize(
     cap: u32,
     fade: Option<(&[f32], f32)>,
 ) -> VoxelCounts {
+    voxelize_lit(positions, segments, grid, mode, cap, fade, None)
+}
+
+/// [`voxelize`], also summing every accepted sample's quantized highlights for `view`
+/// ([`crate::highlights::segment_highlights`] of its segment) when one is given.
+pub fn voxelize_lit(
+    positions: &[Vec3],
+    segments: &[[u32; 2]],
+    grid: &VoxelGrid,
+    mode: VoxelizeMode,
+    cap: u32,
+    fade: Option<(&[f32], f32)>,
+    view: Option<&HighlightView>,
+) -> VoxelCounts {
     let mut out = VoxelCounts::new(*grid);
     for (s, seg) in segments.iter().enumerate() {
         let (v0, v1) = (seg[0] as usize, seg[0] as usize + 1);
         let (p0, p1) = (positions[v0], positions[v1]);
         let w = fade.map_or(1.0, |(t, r)| segment_fade(t[v0], t[v1], r));
-        let tq = quantize_tangent(segment_tangent(p0, p1) * w);
+        let t = segment_tangent(p0, p1);
+        let tq = quantize_tangent(t * w);
+        let hq = view.map_or([0; 4], |v| segment_highlights(v, p0, p1, t));
         let (q0, q1) = (grid.fixed_point(p0), grid.fixed_point(p1));
         match mode {
             VoxelizeMode::Segments => {
                 for q in segment_samples(q0, q1, s as u32) {
-                    out.deposit(q, tq, cap);
+                    out.deposit(q, tq, hq, cap);
                 }
             }
             VoxelizeMode::Vertices => {
-                out.deposit(q0, tq, cap);
+                out.deposit(q0, tq, hq, cap);
                 let last = segments
                     .get(s + 1)
                     .is_none_or(|next| next[1] != seg[1] || next[0] != seg[0] + 1);
                 if last {
-                    out.deposit(q1, tq, cap);
+                    out.deposit(q1, tq, hq, cap);
                 }
             }
         }
@@ -358,6 +383,9 @@ pub struct VoxelValue {
     pub density: f32,
     /// The clamped counts summed over the filter's box (the voxel's count without a filter).
     pub count: u32,
+    /// The highlight texel: the mean quantized highlight of each light over those counts
+    /// ([`crate::highlights::highlight_texel`]).
+    pub highlights: [u8; 4],
 }
 
 impl VoxelValue {
@@ -376,6 +404,7 @@ pub fn resolve(counts: &VoxelCounts, v: UVec3, radius: u32, weight: f32, cap: u3
     let r = radius as i32;
     let mut c = 0u32;
     let mut sum = UVec3::ZERO;
+    let mut lit = [0u32; 4];
     for dz in -r..=r {
         for dy in -r..=r {
             for dx in -r..=r {
@@ -386,6 +415,9 @@ pub fn resolve(counts: &VoxelCounts, v: UVec3, radius: u32, weight: f32, cap: u3
                 let i = g.index(n.as_uvec3());
                 c += counts.clamped(i, cap);
                 sum += counts.tangent_sums[i];
+                for (l, h) in lit.iter_mut().zip(counts.highlight_sums[i]) {
+                    *l += h;
+                }
             }
         }
     }
@@ -394,6 +426,7 @@ pub fn resolve(counts: &VoxelCounts, v: UVec3, radius: u32, weight: f32, cap: u3
         tangent: dequantize_tangent(sum.as_vec3(), c as f32),
         density: c as f32 / (side * side * side) * weight,
         count: c,
+        highlights: lit.map(|l| highlight_texel(l, c)),
     }
 }
 

@@ -452,10 +452,21 @@ pub struct VolumeParams {
     /// Raymarch: optical width in pixels of a strand's line (`volume.opacity = "strands"`), 0
     /// for the paper's `iso` count.
     pub optical_width: f32,
-    /// Padding.
-    pub _pad1: u32,
-    /// Padding.
-    pub _pad2: u32,
+    /// 1: the voxelizer integrates the strands' Kajiya-Kay highlights per voxel and the
+    /// raymarcher shades with them (`volume.highlights = "strands"`).
+    pub highlights: u32,
+    /// Kajiya-Kay's specular exponent of the integrated highlights.
+    pub highlight_exponent: f32,
+    /// The frame's eye (perspective), for the highlights.
+    pub view_eye: [f32; 3],
+    /// 1: orthographic (the view direction is `view_forward` everywhere).
+    pub view_orthographic: u32,
+    /// The frame's unit view direction.
+    pub view_forward: [f32; 3],
+    /// Lights whose highlights are integrated (at most 4).
+    pub light_count: u32,
+    /// Unit directions towards the lights (xyz).
+    pub light_dirs: [[f32; 4]; 4],
 }
 
 /// `struct VoxelStats` in `volume/voxelize.wgsl`: the voxel counters' occupancy.

@@ -339,7 +339,8 @@ impl Renderer {
                 .then(|| d.hair.map(|h| h.bounds))
                 .flatten();
             let radius = own.or(bounds).map_or(1.0, |b| b.1);
-            self.write_object_uniforms(ctx, i, d, unfiltered, base, &inputs.shared.camera, radius);
+            let view = (&inputs.shared.camera, &lights);
+            self.write_object_uniforms(ctx, i, d, unfiltered, base, view, radius);
         }
 
         let ticket = self.services.begin(ctx)?;
@@ -404,12 +405,14 @@ impl Renderer {
                 geometry,
             };
             let march = |encoder: &mut wgpu::CommandEncoder, i: usize, color, timer: &GpuTimer| {
-                if let Some(occupancy) = voxelizer.and_then(|v| v.occupancy(i)) {
+                let volume = voxelizer.and_then(|v| Some((v.occupancy(i)?, v.highlights(i)?)));
+                if let Some((occupancy, highlights)) = volume {
                     let inputs = RaymarchInputs {
                         view: &slots[i].view_group,
                         lighting: &slots[i].lighting_group,
                         depth: targets.depth,
                         occupancy,
+                        highlights,
                         color,
                     };
                     let writes = timer.object_render_writes("volume/raymarch", i, true, true);
@@ -521,7 +524,7 @@ impl Renderer {
         d: &Drawn<'_>,
         unfiltered: Option<&StrandGeometry>,
         base: types::StrandParams,
-        camera: &Camera,
+        (camera, lights): (&Camera, &types::LightsUniform),
         shadow_radius: f32,
     ) {
         let (plan, hair) = (&d.plan, d.hair);
@@ -543,6 +546,24 @@ impl Renderer {
         };
         volume.world_from_clip = types::mat4(camera.clip_from_world().inverse());
         volume.shading = params.shading;
+        // The strands' own Kajiya-Kay highlights, integrated per voxel for this view and these
+        // lights (`volume.highlights = "strands"`; other shading models use the mean tangent).
+        if self.settings.shading == crate::Shading::KajiyaKay && volume.highlights != 0 {
+            let count = (lights.count as usize).min(lights.lights.len());
+            let view = tress_shading::highlights::HighlightView {
+                eye: camera.eye(),
+                forward: camera.forward(),
+                orthographic: camera.is_orthographic(),
+                lights: lights.lights[..count]
+                    .iter()
+                    .map(|l| glam::Vec3::from_array(l.to_light))
+                    .collect(),
+                exponent: d.material.primary_exponent,
+            };
+            Voxelizer::set_highlight_view(&mut volume, &view);
+        } else {
+            volume.highlights = 0;
+        }
         // The strands' tip fade weighs the voxelized tangents (`VolumeParams::fade_ref`).
         volume.fade_ref = if params.thickness_fade == 1 {
             params.thickness_ref

@@ -305,6 +305,7 @@ struct VolumeTable {
     opacity: Option<String>,
     iso: Option<f32>,
     shade_samples: Option<u32>,
+    highlights: Option<String>,
     skip_empty: Option<bool>,
     shadows: Option<bool>,
     occlusion: Option<String>,
@@ -353,6 +354,9 @@ pub fn volume_settings(scene: &Scene) -> Result<VolumeSettings, RenderError> {
     }
     if let Some(name) = &t.opacity {
         s.opacity = name.parse()?;
+    }
+    if let Some(name) = &t.highlights {
+        s.highlights = name.parse()?;
     }
     s.validate()?;
     Ok(s)

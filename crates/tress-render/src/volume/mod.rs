@@ -108,6 +108,7 @@
 //! mode the texel holds the filter box's summed count, at most 255 (a mean of 9.4 per voxel of a
 //! `3³` box): a box summing more is clamped and counted ([`VolumeStats::saturated`]).
 
+mod highlights;
 mod occlusion;
 mod opacity;
 pub(crate) mod raymarch;
@@ -119,6 +120,7 @@ mod voxelizer;
 use std::fmt;
 use std::str::FromStr;
 
+pub use highlights::Highlights;
 pub use occlusion::Occlusion;
 pub use opacity::Opacity;
 pub use raymarch::Raymarch;
@@ -216,6 +218,9 @@ pub struct VolumeSettings {
     /// (default 48: where the rasterizer's composite of the same strands is as deep at the fur
     /// and ponytail scenes' own distance; measured by `tress compare`).
     pub iso: f32,
+    /// Where the Kajiya-Kay highlights come from ([`Highlights`]): the strands' own, integrated
+    /// per voxel (default), or the paper's mean tangent.
+    pub highlights: Highlights,
     /// Points shaded per pixel, `1..=8`: each at the middle of an equal share of the composite's
     /// weight along the ray (default 4; 1 shades where half the weight is reached).
     pub shade_samples: u32,
@@ -247,9 +252,9 @@ pub struct VolumeSettings {
     /// Multiplier of the occluding strand count (the paper's tweak towards a ray tracer).
     pub ao_intensity: f32,
     /// GPU memory the volumes of one frame may take, MiB: the shared voxel counters and every
-    /// head of hair's own volume (texture and occupancy, about 4 bytes a voxel). A head of hair
+    /// head of hair's own volume (textures and occupancy, about 8 bytes a voxel). A head of hair
     /// whose volume would not fit is drawn as strands instead, with a warning (default 2048:
-    /// the counters and 28 volumes at 256³).
+    /// the counters and 13 volumes at 256³).
     pub budget_mib: u32,
 }
 
@@ -264,6 +269,7 @@ impl Default for VolumeSettings {
             opacity: Opacity::Strands,
             iso: 48.0,
             shade_samples: 4,
+            highlights: Highlights::Strands,
             skip_empty: false,
             shadows: true,
             occlusion: Occlusion::Adsm,
@@ -342,17 +348,18 @@ impl VolumeSettings {
         self.counter_bytes() + self.resident_bytes()
     }
 
-    /// Bytes of what the frame keeps after the voxelization: the texture (4 a voxel) and the
-    /// occupancy blocks.
+    /// Bytes of what the frame keeps after the voxelization: the two textures (tangent and
+    /// density, highlights: 8 bytes a voxel) and the occupancy blocks.
     pub fn resident_bytes(&self) -> u64 {
         let voxels = u64::from(self.resolution).pow(3);
         let blocks = u64::from(self.resolution.div_ceil(OCCUPANCY_BLOCK)).pow(3);
-        voxels * 4 + blocks * 4
+        voxels * 8 + blocks * 4
     }
 
-    /// Bytes of the voxelization's scratch: the count and the two tangent-sum words a voxel.
+    /// Bytes of the voxelization's scratch: the count, the two tangent-sum words and the two
+    /// highlight-sum words a voxel.
     pub fn counter_bytes(&self) -> u64 {
-        u64::from(self.resolution).pow(3) * 3 * 4
+        u64::from(self.resolution).pow(3) * 5 * 4
     }
 }
 
@@ -452,10 +459,12 @@ mod tests {
         );
         assert_eq!(s.voxelize, VoxelizeMode::Segments);
         assert!(!s.skip_empty);
-        // 256³: 3 counter buffers of 64 MiB (each inside lavapipe's 128 MiB binding) + a texture
-        // of 4 bytes a voxel (64 MiB) + the occupancy blocks.
-        assert_eq!(s.counter_bytes(), 3 << 26);
-        assert_eq!(s.resident_bytes(), (1 << 26) + 32u64.pow(3) * 4);
+        // 256³: 3 counter buffers of 64 MiB and the highlight sums' 128 MiB (each inside
+        // lavapipe's 128 MiB binding) + two textures of 4 bytes a voxel (64 MiB each) + the
+        // occupancy blocks.
+        assert_eq!(s.counter_bytes(), 5 << 26);
+        assert_eq!(s.resident_bytes(), (2 << 26) + 32u64.pow(3) * 4);
+        assert_eq!(s.highlights, Highlights::Strands);
         assert_eq!(s.bytes(), s.counter_bytes() + s.resident_bytes());
     }
 

@@ -1,6 +1,6 @@
 //! [`Raymarch`], owner of `raymarch.wgsl`.
 
-use crate::bind::{Layouts, bind_group, bind_group_layout, depth_texture, storage};
+use crate::bind::{Layouts, bind_group, bind_group_layout, depth_texture, storage, texture_3d};
 use crate::gpu::pipeline::{RasterPipeline, over_color_pass, pipeline_layout, premultiplied_over};
 use crate::{GpuContext, RenderError, shaders};
 
@@ -19,6 +19,8 @@ pub(crate) struct RaymarchInputs<'a> {
     /// The head's depth (the march stops there).
     pub(crate) depth: &'a wgpu::TextureView,
     pub(crate) occupancy: &'a wgpu::Buffer,
+    /// Each light's integrated highlights (`volume.highlights = "strands"`).
+    pub(crate) highlights: &'a wgpu::TextureView,
     /// Where the volume is drawn (blended over what it holds).
     pub(crate) color: &'a wgpu::TextureView,
 }
@@ -35,7 +37,11 @@ impl Raymarch {
             let layout = bind_group_layout(
                 ctx,
                 "volume/raymarch/layout",
-                &[depth_texture(0, fragment), storage(1, fragment, true)],
+                &[
+                    depth_texture(0, fragment),
+                    storage(1, fragment, true),
+                    texture_3d(2, fragment),
+                ],
             );
             let pipeline_layout = pipeline_layout(
                 ctx,
@@ -71,6 +77,7 @@ impl Raymarch {
             &[
                 (0, wgpu::BindingResource::TextureView(inputs.depth)),
                 (1, inputs.occupancy.as_entire_binding()),
+                (2, wgpu::BindingResource::TextureView(inputs.highlights)),
             ],
         );
         let mut pass = over_color_pass(encoder, "volume/raymarch/pass", inputs.color, timestamps);

@@ -12,6 +12,9 @@
 @group(2) @binding(0) var head_depth: texture_depth_2d;
 // Per 8³ block of voxels: 1 when the trilinear footprint of a non-empty voxel reaches it.
 @group(2) @binding(1) var<storage, read> occupancy: array<u32>;
+// Per voxel, each light's mean Kajiya-Kay highlight of the strands in it, for this frame's view
+// (`volume.highlights = "strands"`; tress_shading::highlights).
+@group(2) @binding(2) var volume_highlights: texture_3d<f32>;
 
 // Corners (x + 2y + 4z) of the box's 12 triangles, counter-clockwise seen from outside.
 const BOX_CORNERS = array<u32, 36>(
@@ -53,10 +56,13 @@ fn shade_volume(x: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
     let v = -dir;
     let n = density_normal(density_gradient(volume_texture, volume_sampler, vt, x), v);
     let base = material.base_color;
-    // Kajiya-Kay's lobe widened by how spread the strands around the point run: a pixel of
-    // strands averages the highlights of every direction it covers (Toksvig on the cone lobe).
+    // Kajiya-Kay: the strands' own highlights, integrated per voxel by the voxelizer; or (the
+    // paper's mean tangent) its lobe widened by how spread the strands around the point run, as
+    // a pixel of strands averages the highlights of every direction it covers (Toksvig on the
+    // cone lobe).
+    let integrated = volume_params.highlights != 0u;
     var kk = KajiyaKay(base, material.lighting.primary_color, material.lighting.primary_exponent);
-    if volume_params.shading == SHADING_KAJIYA_KAY {
+    if volume_params.shading == SHADING_KAJIYA_KAY && !integrated {
         kk = spread_kajiya_kay(kk, volume_tangent_coherence(volume_texture, volume_sampler, vt, x));
     }
     var color = lights.ambient * base;
@@ -79,6 +85,10 @@ fn shade_volume(x: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
             // The per-strand shift and mask textures average out in a voxel: their means.
             let s = HairSample(t, 0.5, n, 0.5, base, 1.0);
             c = hair_lighting(material.lighting, s, l, light_radiance(light), v);
+        } else if integrated {
+            let specular = volume_highlight(volume_highlights, volume_texture, vt, x, i);
+            c = (kk.diffuse * kajiya_kay_diffuse(t, l) + kk.specular * specular)
+                * light_radiance(light);
         } else {
             c = kajiya_kay(kk, t, l, v) * light_radiance(light);
         }

@@ -46,6 +46,17 @@ impl VolumeResolve {
                     storage(6, c, false),
                     storage(7, c, true),
                     storage(8, c, false),
+                    storage(9, c, true),
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 10,
+                        visibility: c,
+                        ty: wgpu::BindingType::StorageTexture {
+                            access: wgpu::StorageTextureAccess::WriteOnly,
+                            format: VOLUME_FORMAT,
+                            view_dimension: wgpu::TextureViewDimension::D3,
+                        },
+                        count: None,
+                    },
                 ],
             );
             let pipeline_layout = pipeline_layout(

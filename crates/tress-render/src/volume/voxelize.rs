@@ -28,6 +28,7 @@ impl Voxelize {
                     storage(3, c, false),
                     storage(4, c, false),
                     storage(5, c, false),
+                    storage(6, c, false),
                 ],
             );
             let pipeline_layout = pipeline_layout(

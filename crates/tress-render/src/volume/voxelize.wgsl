@@ -1,10 +1,12 @@
 // Voxelize pass (Jansson 2019 §3.3, "Strand Voxelization"; §4.2 for the segments mode): one
 // invocation per segment deposits samples into the per-voxel atomic counters and sums their
-// quantized tangents (twin of tress_shading::voxelize). A sample finding its counter at the
-// capacity is dropped and counted. Owner: `Voxelize`.
+// quantized tangents and, with `volume.highlights`, their quantized Kajiya-Kay highlights for
+// this frame's view and lights (twin of tress_shading::voxelize::voxelize_lit). A sample finding
+// its counter at the capacity is dropped and counted. Owner: `Voxelize`.
 
 #include "common/strand.wgsl"
 #include "common/volume.wgsl"
+#include "common/shading.wgsl"
 
 @group(0) @binding(0) var<uniform> volume: VolumeParams;
 @group(0) @binding(1) var<storage, read> grid: VolumeGrid;
@@ -13,12 +15,36 @@
 @group(0) @binding(3) var<storage, read_write> tangent_xy: array<atomic<u32>>;
 @group(0) @binding(4) var<storage, read_write> tangent_z: array<atomic<u32>>;
 @group(0) @binding(5) var<storage, read_write> stats: VoxelStats;
+// Quantized highlight sums, two words a voxel: lights 0 and 1, then 2 and 3 (16 bits each).
+@group(0) @binding(6) var<storage, read_write> highlight_sums: array<atomic<u32>>;
 
 var<workgroup> wg_deposits: atomic<u32>;
 var<workgroup> wg_dropped: atomic<u32>;
 
+// The quantized highlights of a segment for each light (tress_shading::highlights::
+// segment_highlights), packed two to a word; zero when the volume integrates none.
+fn segment_highlights(p0: vec3<f32>, p1: vec3<f32>, t: vec3<f32>) -> vec2<u32> {
+    if volume.highlights == 0u {
+        return vec2<u32>(0u);
+    }
+    var v = -volume.view_forward;
+    if volume.view_orthographic == 0u {
+        let d = volume.view_eye - (p0 + p1) * 0.5;
+        let len = length(d);
+        if len >= 1e-20 {
+            v = d / len;
+        }
+    }
+    var q = vec4<u32>(0u);
+    for (var i = 0u; i < min(volume.light_count, 4u); i = i + 1u) {
+        let l = volume.light_dirs[i].xyz;
+        q[i] = quantize_highlight(kajiya_kay_specular(t, l, v, volume.highlight_exponent));
+    }
+    return vec2<u32>(q.x | (q.y << 16u), q.z | (q.w << 16u));
+}
+
 // Add one sample at fixed-point position `q`; returns 1 when it was dropped.
-fn deposit(q: vec3<u32>, tq: vec3<u32>) -> u32 {
+fn deposit(q: vec3<u32>, tq: vec3<u32>, hq: vec2<u32>) -> u32 {
     let i = voxel_index(grid.res, q >> vec3<u32>(SUBVOXEL_BITS));
     let old = atomicAdd(&counts[i], 1u);
     // Design rule 8: check against the capacity, count what is dropped.
@@ -27,6 +53,13 @@ fn deposit(q: vec3<u32>, tq: vec3<u32>) -> u32 {
     }
     atomicAdd(&tangent_xy[i], tq.x | (tq.y << 16u));
     atomicAdd(&tangent_z[i], tq.z);
+    // Most samples are far from every light's mirror cone: their zero adds are skipped.
+    if hq.x != 0u {
+        atomicAdd(&highlight_sums[2u * i], hq.x);
+    }
+    if hq.y != 0u {
+        atomicAdd(&highlight_sums[2u * i + 1u], hq.y);
+    }
     return 0u;
 }
 
@@ -53,7 +86,9 @@ fn voxelize(
             let th = strand_vertices[seg.x].thickness + strand_vertices[seg.x + 1u].thickness;
             fade = saturate(0.5 * th / volume.fade_ref);
         }
-        let tq = quantize_tangent(segment_tangent(p0, p1) * fade);
+        let t = segment_tangent(p0, p1);
+        let tq = quantize_tangent(t * fade);
+        let hq = segment_highlights(p0, p1, t);
         let q0 = fixed_point(grid, p0);
         let q1 = fixed_point(grid, p1);
         var deposits = 0u;
@@ -63,11 +98,11 @@ fn voxelize(
             let a = vec3<i32>(q0);
             let d = vec3<i32>(q1) - a;
             for (var k = 0u; k < n; k = k + 1u) {
-                dropped = dropped + deposit(segment_sample(a, d, k, n), tq);
+                dropped = dropped + deposit(segment_sample(a, d, k, n), tq, hq);
             }
             deposits = n;
         } else {
-            dropped = deposit(q0, tq);
+            dropped = deposit(q0, tq, hq);
             deposits = 1u;
             // The last segment of a strand also deposits the strand's last vertex.
             var last = s + 1u >= volume.segment_count;
@@ -76,7 +111,7 @@ fn voxelize(
                 last = next.y != seg.y || next.x != seg.x + 1u;
             }
             if last {
-                dropped = dropped + deposit(q1, tq);
+                dropped = dropped + deposit(q1, tq, hq);
                 deposits = 2u;
             }
         }

@@ -12,21 +12,23 @@ use crate::volume::{
     OCCUPANCY_BLOCK, VolumeBounds, VolumeResolve, VolumeSettings, VolumeStats, Voxelize,
 };
 use crate::{GpuContext, RenderError};
+use tress_shading::highlights::{HIGHLIGHT_LIGHTS, HighlightView};
 use tress_shading::voxelize::decode_texel;
 
-/// The voxelization's scratch: the per-voxel counters (a count and two tangent-sum words, 12
-/// bytes a voxel). One set serves every object's voxelization in turn, so a frame of several
-/// volume characters holds it once.
+/// The voxelization's scratch: the per-voxel counters (a count, two tangent-sum words and two
+/// highlight-sum words, 20 bytes a voxel). One set serves every object's voxelization in turn, so
+/// a frame of several volume characters holds it once.
 #[derive(Debug)]
 struct Scratch {
     counts: wgpu::Buffer,
     tangent_xy: wgpu::Buffer,
     tangent_z: wgpu::Buffer,
+    highlights: wgpu::Buffer,
 }
 
-/// One object's volume: what stays after its voxelization (the `rgba8unorm` texture, 4 bytes a
-/// voxel, and the occupancy blocks), its fitted grid, and the bind groups of its three passes
-/// over its own settings uniform and the shared [`Scratch`].
+/// One object's volume: what stays after its voxelization (the two `rgba8unorm` textures, 8
+/// bytes a voxel, and the occupancy blocks), its fitted grid, and the bind groups of its three
+/// passes over its own settings uniform and the shared [`Scratch`].
 #[derive(Debug)]
 struct Grid {
     keys: wgpu::Buffer,
@@ -37,6 +39,8 @@ struct Grid {
     occupancy: wgpu::Buffer,
     texture: wgpu::Texture,
     view: wgpu::TextureView,
+    highlight_texture: wgpu::Texture,
+    highlight_view: wgpu::TextureView,
     bounds_group: wgpu::BindGroup,
     voxelize_group: wgpu::BindGroup,
     resolve_group: wgpu::BindGroup,
@@ -55,6 +59,10 @@ pub struct VolumeReadback {
     pub counts: Vec<u32>,
     /// Per voxel: quantized tangent sums of the accepted samples (x, y, z).
     pub tangent_sums: Vec<[u32; 3]>,
+    /// Per voxel: quantized highlight sums of the accepted samples, a light each.
+    pub highlight_sums: Vec<[u32; 4]>,
+    /// Per voxel: the highlight texel's bytes, a light each.
+    pub highlight_texels: Vec<[u8; 4]>,
     /// Per voxel: the texel read as the mean tangent and the density.
     pub texels: Vec<[f32; 4]>,
     /// Per voxel: the texel's bytes (`tress_shading::voxelize::encode_texel`).
@@ -70,8 +78,8 @@ pub struct VolumeReadback {
 /// its own) rebuilds a volume from the geometry as it is.
 ///
 /// A frame of several heads of hair keeps one volume per object that needs one (its texture and
-/// occupancy, about 4 bytes a voxel) and voxelizes them one after another through one shared
-/// set of counters ([`Voxelizer::counter_bytes`], 12 bytes a voxel). The standalone API
+/// occupancy, about 8 bytes a voxel) and voxelizes them one after another through one shared
+/// set of counters ([`Voxelizer::counter_bytes`], 20 bytes a voxel). The standalone API
 /// (`voxelize`, `view`, `read_back`) works on object 0.
 #[derive(Debug)]
 pub struct Voxelizer {
@@ -97,9 +105,10 @@ fn entries<'a>(bufs: &[&'a wgpu::Buffer]) -> Vec<wgpu::BindGroupEntry<'a>> {
         .collect()
 }
 
-/// Storage buffers the voxelize pass binds in the compute stage (counters, tangent sums, stats,
-/// grid, strand vertices and segments).
-const STORAGE_BUFFERS_PER_STAGE: u32 = 7;
+/// Storage buffers the voxelize and resolve passes bind in the compute stage (the voxelize pass:
+/// counters, tangent sums, highlight sums, stats, grid, strand vertices and segments; the
+/// resolve: the same counters and sums, grid, occupancy, region and stats).
+const STORAGE_BUFFERS_PER_STAGE: u32 = 8;
 
 const GRID_BYTES: u64 = std::mem::size_of::<VolumeGrid>() as u64;
 
@@ -179,11 +188,12 @@ impl Voxelizer {
                 limit: u64::from(limits.max_texture_dimension_3d),
             });
         }
-        let counter_bytes = u64::from(res).pow(3) * 4;
+        // The largest counter buffer: the highlight sums, two words a voxel.
+        let counter_bytes = u64::from(res).pow(3) * 8;
         let limit = ctx.caps.max_storage_binding.min(ctx.caps.max_buffer_size);
         if counter_bytes > limit {
             return Err(RenderError::Limit {
-                what: format!("a voxel counter buffer of a {res}³ volume"),
+                what: format!("the highlight sums of a {res}³ volume"),
                 needed: counter_bytes,
                 limit,
             });
@@ -200,6 +210,12 @@ impl Voxelizer {
                 counts: buffer(ctx, "volume/voxelize/counts", counter_bytes, storage),
                 tangent_xy: buffer(ctx, "volume/voxelize/tangent-xy", counter_bytes, storage),
                 tangent_z: buffer(ctx, "volume/voxelize/tangent-z", counter_bytes, storage),
+                highlights: buffer(
+                    ctx,
+                    "volume/voxelize/highlights",
+                    counter_bytes * 2,
+                    storage,
+                ),
             }
         })
     }
@@ -211,6 +227,7 @@ impl Voxelizer {
             counts,
             tangent_xy,
             tangent_z,
+            highlights,
         } = &self.scratch;
         ctx.scoped("allocating the volume", || {
             use wgpu::BufferUsages as U;
@@ -231,26 +248,28 @@ impl Voxelizer {
             );
             let stats = buffer(ctx, "volume/voxelize/stats", 16, storage);
             let occupancy = buffer(ctx, "volume/resolve/occupancy", blocks, storage);
-            let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("volume/resolve/texture"),
-                size: wgpu::Extent3d {
-                    width: res,
-                    height: res,
-                    depth_or_array_layers: res,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D3,
-                format: VOLUME_FORMAT,
-                usage: wgpu::TextureUsages::STORAGE_BINDING
-                    | wgpu::TextureUsages::TEXTURE_BINDING
-                    | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            });
-            let view = texture.create_view(&wgpu::TextureViewDescriptor {
-                label: Some("volume/resolve/texture-view"),
-                ..Default::default()
-            });
+            let volume_texture = |label: &str| {
+                let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d {
+                        width: res,
+                        height: res,
+                        depth_or_array_layers: res,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D3,
+                    format: VOLUME_FORMAT,
+                    usage: wgpu::TextureUsages::STORAGE_BINDING
+                        | wgpu::TextureUsages::TEXTURE_BINDING
+                        | wgpu::TextureUsages::COPY_SRC,
+                    view_formats: &[],
+                });
+                let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+                (texture, view)
+            };
+            let (texture, view) = volume_texture("volume/resolve/texture");
+            let (highlight_texture, highlight_view) = volume_texture("volume/resolve/highlights");
             let group =
                 |label: &str, layout: &wgpu::BindGroupLayout, e: &[wgpu::BindGroupEntry<'_>]| {
                     ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -267,7 +286,9 @@ impl Voxelizer {
             let voxelize_group = group(
                 "volume/voxelize/bind-group",
                 &self.voxelize.layout,
-                &entries(&[params, &grid, counts, tangent_xy, tangent_z, &stats]),
+                &entries(&[
+                    params, &grid, counts, tangent_xy, tangent_z, &stats, highlights,
+                ]),
             );
             let mut e = entries(&[params, &grid, counts, tangent_xy, tangent_z]);
             e.push(wgpu::BindGroupEntry {
@@ -286,6 +307,14 @@ impl Voxelizer {
                 binding: 8,
                 resource: stats.as_entire_binding(),
             });
+            e.push(wgpu::BindGroupEntry {
+                binding: 9,
+                resource: highlights.as_entire_binding(),
+            });
+            e.push(wgpu::BindGroupEntry {
+                binding: 10,
+                resource: wgpu::BindingResource::TextureView(&highlight_view),
+            });
             let resolve_group = group("volume/volume_resolve/bind-group", &self.resolve.layout, &e);
             Grid {
                 keys,
@@ -296,6 +325,8 @@ impl Voxelizer {
                 occupancy,
                 texture,
                 view,
+                highlight_texture,
+                highlight_view,
                 bounds_group,
                 voxelize_group,
                 resolve_group,
@@ -375,13 +406,13 @@ impl Voxelizer {
         self.counter_bytes() + self.grid_bytes() * self.grid_count() as u64
     }
 
-    /// Bytes of the shared voxel counters (12 a voxel).
+    /// Bytes of the shared voxel counters (20 a voxel).
     pub fn counter_bytes(&self) -> u64 {
         self.settings().counter_bytes()
     }
 
-    /// Bytes one object's volume keeps between frames: its texture (4 a voxel) and occupancy
-    /// blocks.
+    /// Bytes one object's volume keeps between frames: its two textures (8 a voxel) and
+    /// occupancy blocks.
     pub fn grid_bytes(&self) -> u64 {
         self.settings().resident_bytes()
     }
@@ -406,6 +437,12 @@ impl Voxelizer {
     /// Object `object`'s volume texture (`None` when it has none).
     pub(crate) fn object_view(&self, object: usize) -> Option<&wgpu::TextureView> {
         self.grid(object).map(|g| &g.view)
+    }
+
+    /// Object `object`'s highlight texture (each light's mean highlight; `None` when it has no
+    /// volume).
+    pub(crate) fn highlights(&self, object: usize) -> Option<&wgpu::TextureView> {
+        self.grid(object).map(|g| &g.highlight_view)
     }
 
     /// The uniform copy of the grid object `object`'s last voxelization fitted.
@@ -440,6 +477,7 @@ impl Voxelizer {
             &s.counts,
             &s.tangent_xy,
             &s.tangent_z,
+            &s.highlights,
             &g.stats,
             &g.occupancy,
         ] {
@@ -487,7 +525,24 @@ impl Voxelizer {
             strand_width: settings.strand_width,
             occlusion: settings.occlusion.gpu(),
             shade_samples: settings.shade_samples,
+            // The renderer adds the frame's view, lights and exponent (and turns it off for
+            // shading models other than Kajiya-Kay); without lights nothing is integrated.
+            highlights: u32::from(settings.highlights == crate::volume::Highlights::Strands),
             ..Default::default()
+        }
+    }
+
+    /// Give `params` the view, lights and exponent the voxelizer integrates highlights for (when
+    /// its settings ask for them: `params.highlights` stays as [`Voxelizer::params`] set it).
+    pub fn set_highlight_view(params: &mut VolumeParams, view: &HighlightView) {
+        params.highlight_exponent = view.exponent;
+        params.view_eye = view.eye.to_array();
+        params.view_orthographic = u32::from(view.orthographic);
+        params.view_forward = view.forward.to_array();
+        params.light_count = view.lights.len().min(HIGHLIGHT_LIGHTS) as u32;
+        params.light_dirs = [[0.0; 4]; 4];
+        for (dir, l) in params.light_dirs.iter_mut().zip(&view.lights) {
+            *dir = l.extend(0.0).to_array();
         }
     }
 
@@ -513,12 +568,29 @@ impl Voxelizer {
         settings: &VolumeSettings,
         fade_ref: f32,
     ) -> Result<VolumeStats, RenderError> {
+        self.voxelize_lit(ctx, geometry, settings, fade_ref, None)
+    }
+
+    /// [`Voxelizer::voxelize_faded`] that also integrates the strands' highlights for `view`
+    /// (its eye and lights; `None`, or `volume.highlights = "mean_tangent"`: none).
+    pub fn voxelize_lit(
+        &mut self,
+        ctx: &GpuContext,
+        geometry: &StrandGeometry,
+        settings: &VolumeSettings,
+        fade_ref: f32,
+        view: Option<&HighlightView>,
+    ) -> Result<VolumeStats, RenderError> {
         settings.validate()?;
         self.set_resolution(ctx, settings.resolution)?;
         let params0 = self.params0.clone();
         self.ensure_grid(ctx, 0, &params0)?;
         let mut params = Self::params(settings, geometry);
         params.fade_ref = fade_ref;
+        match view {
+            Some(v) => Self::set_highlight_view(&mut params, v),
+            None => params.highlights = 0,
+        }
         ctx.queue
             .write_buffer(&self.params0, 0, bytemuck::bytes_of(&params));
         ctx.scoped("voxelizing", || {
@@ -580,7 +652,50 @@ impl Voxelizer {
         let grid: VolumeGrid = bytemuck::pod_read_unaligned(&self.read(ctx, &g.grid, GRID_BYTES)?);
         let keys = bytemuck::pod_read_unaligned(&self.read(ctx, &g.keys, 24)?);
         let stats = bytemuck::pod_read_unaligned(&self.read(ctx, &g.stats, 16)?);
-        // The texture, row by row with the copy alignment.
+        let bytes = self.read_texture(ctx, &g.texture)?;
+        let highlight_texels: Vec<[u8; 4]> = self
+            .read_texture(ctx, &g.highlight_texture)?
+            .chunks_exact(4)
+            .map(|t| [t[0], t[1], t[2], t[3]])
+            .collect();
+        let highlight_words: Vec<u32> =
+            bytemuck::cast_slice(&self.read(ctx, &self.scratch.highlights, n * 8)?).to_vec();
+        let mut texels = Vec::with_capacity(n as usize);
+        let mut texel_bytes = Vec::with_capacity(n as usize);
+        for t in bytes.chunks_exact(4) {
+            let b = [t[0], t[1], t[2], t[3]];
+            texel_bytes.push(b);
+            let (tangent, density) = decode_texel(b, grid.density_unit);
+            texels.push([tangent.x, tangent.y, tangent.z, density]);
+        }
+        Ok(VolumeReadback {
+            grid,
+            keys,
+            counts,
+            tangent_sums: xy
+                .iter()
+                .zip(&z)
+                .map(|(&xy, &z)| [xy & 0xffff, xy >> 16, z])
+                .collect(),
+            highlight_sums: highlight_words
+                .chunks_exact(2)
+                .map(|w| tress_shading::highlights::unpack_highlights([w[0], w[1]]))
+                .collect(),
+            highlight_texels,
+            texels,
+            texel_bytes,
+            occupancy,
+            stats,
+        })
+    }
+
+    /// A `res³` `rgba8unorm` texture's bytes, x fastest, without the copy's row padding.
+    fn read_texture(
+        &self,
+        ctx: &GpuContext,
+        texture: &wgpu::Texture,
+    ) -> Result<Vec<u8>, RenderError> {
+        let res = self.res;
         let row = res * 4;
         let padded =
             row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
@@ -598,7 +713,7 @@ impl Voxelizer {
                     label: Some("volume/readback/texture-encoder"),
                 });
             encoder.copy_texture_to_buffer(
-                g.texture.as_image_copy(),
+                texture.as_image_copy(),
                 wgpu::TexelCopyBufferInfo {
                     buffer: &staging,
                     layout: wgpu::TexelCopyBufferLayout {
@@ -607,36 +722,15 @@ impl Voxelizer {
                         rows_per_image: Some(res),
                     },
                 },
-                g.texture.size(),
+                texture.size(),
             );
             ctx.queue.submit([encoder.finish()]);
             staging
         })?;
         let bytes = read_buffer(ctx, &staging, 0..size)?;
-        let mut texels = Vec::with_capacity(n as usize);
-        let mut texel_bytes = Vec::with_capacity(n as usize);
-        for r in 0..(res * res) as usize {
-            let line = &bytes[r * padded as usize..r * padded as usize + row as usize];
-            for t in line.chunks_exact(4) {
-                let b = [t[0], t[1], t[2], t[3]];
-                texel_bytes.push(b);
-                let (tangent, density) = decode_texel(b, grid.density_unit);
-                texels.push([tangent.x, tangent.y, tangent.z, density]);
-            }
-        }
-        Ok(VolumeReadback {
-            grid,
-            keys,
-            counts,
-            tangent_sums: xy
-                .iter()
-                .zip(&z)
-                .map(|(&xy, &z)| [xy & 0xffff, xy >> 16, z])
-                .collect(),
-            texels,
-            texel_bytes,
-            occupancy,
-            stats,
-        })
+        Ok((0..(res * res) as usize)
+            .flat_map(|r| &bytes[r * padded as usize..r * padded as usize + row as usize])
+            .copied()
+            .collect())
     }
 }

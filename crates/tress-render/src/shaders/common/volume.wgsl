@@ -112,8 +112,18 @@ struct VolumeParams {
     // Raymarch under `volume.opacity = "strands"`: optical width of a strand line in pixels
     // (tress_shading::line_optical_width); 0: the paper's `iso` count.
     optical_width: f32,
-    _pad1: u32,
-    _pad2: u32,
+    // 1: the voxelizer integrates the strands' Kajiya-Kay highlights per voxel for this frame's
+    // view and lights, and the raymarcher shades with them (`volume.highlights = "strands"`;
+    // tress_shading::highlights); their exponent.
+    highlights: u32,
+    highlight_exponent: f32,
+    // The frame's eye (perspective) or view direction (orthographic) and the lights' unit
+    // directions, for the highlights.
+    view_eye: vec3<f32>,
+    view_orthographic: u32,
+    view_forward: vec3<f32>,
+    light_count: u32,
+    light_dirs: array<vec4<f32>, 4>,
 }
 
 const MAX_SHADE_SAMPLES: u32 = 8u;
@@ -473,4 +483,45 @@ fn dither_threshold(px: vec2<u32>) -> f32 {
     var bayer = array<u32, 16>(0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
     let b = bayer[(px.y & 3u) * 4u + (px.x & 3u)];
     return (f32(b) + 0.5) / 16.0;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Pre-integrated highlights (tress_shading::highlights)
+
+const HIGHLIGHT_LEVELS: f32 = 255.0;
+
+// One specular value in [0, 1] as floor(s * 255 + 1/2).
+fn quantize_highlight(s: f32) -> u32 {
+    return u32(floor(clamp(s, 0.0, 1.0) * HIGHLIGHT_LEVELS + 0.5));
+}
+
+// The texel byte of a voxel's highlight: the mean of `count` samples summing to `sum`, rounded
+// to the nearest level in integers; 0 without samples.
+fn highlight_texel(sum: u32, count: u32) -> u32 {
+    if count == 0u {
+        return 0u;
+    }
+    return min((2u * sum + count) / (2u * count), 255u);
+}
+
+// The highlight of light `light` at voxel position `x`: the density-weighted trilinear mean of
+// the eight highlight texels around it (the densities from the volume texture's counts), in
+// [0, 1]; 0 where none holds strands.
+fn volume_highlight(
+    highlights: texture_3d<f32>, volume: texture_3d<f32>, vt: VolumeTexels, x: vec3<f32>, light: u32,
+) -> f32 {
+    let cell = trilinear_cell(vt, x);
+    var sum = 0.0;
+    var weight = 0.0;
+    for (var k = 0u; k < 8u; k = k + 1u) {
+        let c = vec3<u32>(k & 1u, (k >> 1u) & 1u, (k >> 2u) & 1u);
+        let i = select(cell.i0, cell.i1, c == vec3<u32>(1u));
+        let tw = select(vec3<f32>(1.0) - cell.w, cell.w, c == vec3<u32>(1u));
+        let density = floor(textureLoad(volume, i, 0).a * 255.0 + 0.5) * vt.density_unit;
+        let h = floor(textureLoad(highlights, i, 0)[min(light, 3u)] * 255.0 + 0.5);
+        let w = tw.x * tw.y * tw.z * density;
+        sum = sum + w * h;
+        weight = weight + w;
+    }
+    return select(0.0, sum / weight / HIGHLIGHT_LEVELS, weight > 0.0);
 }
