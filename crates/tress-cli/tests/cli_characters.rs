@@ -79,14 +79,14 @@ fn the_crowd_reports_each_character_drawn_by_its_size() {
     assert!(objects.windows(2).all(|w| size(&w[0]) > size(&w[1])));
     assert_eq!(objects[0]["technique"], "strands");
     assert_eq!(objects[5]["technique"], "volume");
-    // One volume per voxelized character beside the shared counters (64³: 12 bytes a voxel).
+    // One volume per voxelized character beside the shared counters (64³: 20 bytes a voxel).
     let volumes: u64 = objects
         .iter()
         .map(|o| o["volume_bytes"].as_u64().unwrap())
         .sum();
     assert_eq!(
         v["volume"]["bytes"].as_u64().unwrap(),
-        64u64.pow(3) * 12 + volumes
+        64u64.pow(3) * 20 + volumes
     );
     assert!(v["oit"]["fragments"].as_u64().unwrap() > 0 && v["oit"]["lost"] == 0);
 }
