@@ -70,5 +70,5 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         strand_optical_depth(c.s.x, tangent, normalize(x - vec3f(8.0)), c.x.w, c.ao.x),
         volume_tangent_coherence(volume, volume_sampler, vt, x),
         volume_highlight(highlights, volume, vt, x, n % 4u),
-        f32(quantize_highlight(c.ao.w)) * 1000.0 + f32(highlight_texel(n % 65025u, 1u + n % 255u)));
+        f32(quantize_highlight(c.ao.w)) * 1000.0 + f32(highlight_texel(n % 65025u, 255u + n % 65025u)));
 }

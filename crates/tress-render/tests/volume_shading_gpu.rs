@@ -288,7 +288,7 @@ fn volume_functions_match_the_cpu_twins() {
         close("volume_highlight", i, r[8][2], h, 1e-5, 1e-5);
         highlight_values.push(h);
         let q = cpu::highlights::quantize_highlight(c.ao[3]);
-        let t = cpu::highlights::highlight_texel(n % 65025, 1 + n % 255);
+        let t = cpu::highlights::highlight_texel(n % 65025, 255 + n % 65025);
         assert_eq!(
             r[8][3],
             (q * 1000 + u32::from(t)) as f32,

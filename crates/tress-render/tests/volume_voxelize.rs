@@ -419,23 +419,40 @@ fn the_renderer_refuses_a_resolution_the_device_cannot_hold() {
     );
 }
 
-#[test]
-fn the_tip_fade_weighs_the_tangents_as_the_cpu_reference_does() {
-    if common::gpu().is_none() {
-        return;
-    }
-    // Every strand tapers from thickness 1 at the root to 0.1 at the tip.
+/// [`asset`] with every strand tapering from thickness 1 at the root to 0.1 at the tip.
+fn tapered() -> HairAsset {
     let base = asset();
     let mut thickness = Vec::with_capacity(base.positions().len());
     for strand in base.strands() {
         let n = strand.len().max(2) - 1;
         thickness.extend((0..strand.len()).map(|i| 1.0 - 0.9 * i as f32 / n as f32));
     }
-    let tapered = base.with_thickness(thickness).expect("thickness");
+    base.with_thickness(thickness).expect("thickness")
+}
+
+#[test]
+fn the_tip_fade_weighs_the_tangents_as_the_cpu_reference_does() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let tapered = tapered();
     let s = settings(VoxelizeMode::Segments);
     let (gpu, cpu, _) = run_faded(&tapered, &s, Some(1.0));
     let (_, plain, _) = run(&tapered, &s);
     assert_eq!(gpu.counts, cpu.counts, "the fade leaves the density alone");
+    // The fades summed for the highlights' weights: within one level a sample.
+    for (i, (g, c)) in gpu.fade_sums.iter().zip(&cpu.fade_sums).enumerate() {
+        assert!(
+            g.abs_diff(*c) <= cpu.counts[i],
+            "voxel {i}: fade sums {g} vs {c}"
+        );
+    }
+    assert!(
+        cpu.fade_sums
+            .iter()
+            .zip(&plain.fade_sums)
+            .any(|(f, p)| f < p)
+    );
     assert_eq!(cpu.counts, plain.counts);
     let (mut faded_len, mut plain_len, mut n) = (0.0, 0.0, 0);
     for (i, (g, c)) in gpu.tangent_sums.iter().zip(&cpu.tangent_sums).enumerate() {
@@ -483,12 +500,13 @@ fn the_highlights_integrate_the_strands_lobes_as_the_cpu_reference_does() {
         ],
         exponent: 40.0,
     };
-    let asset = asset();
+    // Tapered strands under the tip fade: each sample's highlight weighed by its fade.
+    let asset = tapered();
     let s = settings(VoxelizeMode::Segments);
     let geometry = StrandGeometry::new(&ctx, &asset).expect("upload");
     let mut voxelizer = Voxelizer::new(&ctx, s.resolution).expect("voxelizer");
     voxelizer
-        .voxelize_lit(&ctx, &geometry, &s, 0.0, Some(&view))
+        .voxelize_lit(&ctx, &geometry, &s, 1.0, Some(&view))
         .expect("voxelize");
     let gpu = voxelizer.read_back(&ctx).expect("readback");
     let g = cpu_grid(&gpu.grid);
@@ -499,7 +517,7 @@ fn the_highlights_integrate_the_strands_lobes_as_the_cpu_reference_does() {
         &g,
         s.voxelize,
         s.max_strands_per_voxel,
-        None,
+        Some((asset.thickness().expect("thickness"), 1.0)),
         Some(&view),
     );
     assert_eq!(gpu.counts, cpu.counts);
@@ -542,7 +560,7 @@ fn the_highlights_integrate_the_strands_lobes_as_the_cpu_reference_does() {
     let mut plain = s.clone();
     plain.highlights = tress_render::volume::Highlights::MeanTangent;
     voxelizer
-        .voxelize_lit(&ctx, &geometry, &plain, 0.0, Some(&view))
+        .voxelize_lit(&ctx, &geometry, &plain, 1.0, Some(&view))
         .expect("voxelize");
     let off = voxelizer.read_back(&ctx).expect("readback");
     assert!(off.highlight_sums.iter().all(|h| *h == [0; 4]));

@@ -14,11 +14,14 @@
 //! The voxelizer already visits every strand sample once per frame, with the frame's camera and
 //! lights known, so it can integrate the lobes themselves: each segment's specular term
 //! `kajiya_kay_specular(t, l, v, exponent)` for every light (`v` towards the eye from the segment's
-//! midpoint) is quantized to 8 bits ([`quantize_highlight`]) and summed per voxel next to the
-//! tangent. Two `u32` words a voxel hold the four lights' sums, 16 bits each: a voxel accepts at
-//! most 255 samples of at most 255, so they cannot overflow. The resolve divides by the count
-//! ([`highlight_texel`], exact integer rounding) and writes an `rgba8unorm` texel, one channel a
-//! light. The raymarcher reads it back at a point as the density-weighted trilinear mean of the
+//! midpoint), weighed by the segment's tip fade (a faded tip is nearly transparent in the strands'
+//! composite, so its highlight counts for as little), is quantized to 8 bits
+//! ([`quantize_highlight`]) and summed per voxel next to the tangent; the fades themselves are
+//! summed too, quantized the same way, in the high half of the tangent's z word. Two `u32` words a
+//! voxel hold the four lights' sums, 16 bits each: a voxel accepts at most 255 samples of at most
+//! 255, so they cannot overflow. The resolve divides each light's sum by the fade sum
+//! ([`highlight_texel`], exact integer rounding: the fade-weighted mean of the lobes) and writes an
+//! `rgba8unorm` texel, one channel a light. The raymarcher reads it back at a point as the density-weighted trilinear mean of the
 //! eight texels around it ([`volume_highlight`]: empty texels have no strands, so they must not
 //! pull a surface point's highlight towards zero) and uses it in place of the mean tangent's lobe.
 
@@ -63,25 +66,33 @@ pub fn quantize_highlight(s: f32) -> u32 {
     (s.clamp(0.0, 1.0) * HIGHLIGHT_LEVELS + 0.5).floor() as u32
 }
 
-/// The quantized highlights of the segment `p0`–`p1` (unit tangent `t`) for each light of `view`
-/// (0 for absent lights); WGSL twin `segment_highlights`.
-pub fn segment_highlights(view: &HighlightView, p0: Vec3, p1: Vec3, t: Vec3) -> [u32; 4] {
+/// The quantized highlights of the segment `p0`–`p1` (unit tangent `t`, tip fade `fade`) for each
+/// light of `view`, `quantize_highlight(fade · spec)` (0 for absent lights); WGSL twin
+/// `segment_highlights`.
+pub fn segment_highlights(
+    view: &HighlightView,
+    p0: Vec3,
+    p1: Vec3,
+    t: Vec3,
+    fade: f32,
+) -> [u32; 4] {
     let v = view.to_eye((p0 + p1) * 0.5);
     let mut q = [0; HIGHLIGHT_LIGHTS];
     for (qi, l) in q.iter_mut().zip(&view.lights) {
-        *qi = quantize_highlight(kajiya_kay_specular(t, *l, v, view.exponent));
+        *qi = quantize_highlight(fade * kajiya_kay_specular(t, *l, v, view.exponent));
     }
     q
 }
 
-/// The texel byte of a voxel's highlight: the mean of `count` quantized samples summing to `sum`,
-/// rounded to the nearest level in integers (`(2 · sum + count) / (2 · count)`); 0 without
-/// samples. WGSL twin `highlight_texel`.
-pub fn highlight_texel(sum: u32, count: u32) -> u8 {
-    if count == 0 {
+/// The texel byte of a voxel's highlight: the fade-weighted mean of its samples, their quantized
+/// `fade · spec` summing to `sum` over quantized fades summing to `fades`, to the nearest level in
+/// integers (`(2 · 255 · sum + fades) / (2 · fades)`, at most 255); 0 without fade. With no fade
+/// (every sample's 255) it is the plain mean. WGSL twin `highlight_texel`.
+pub fn highlight_texel(sum: u32, fades: u32) -> u8 {
+    if fades == 0 {
         return 0;
     }
-    ((2 * sum + count) / (2 * count)).min(255) as u8
+    ((2 * 255 * sum + fades) / (2 * fades)).min(255) as u8
 }
 
 /// The two words the GPU accumulates a voxel's four sums in: lights 0 and 1, then 2 and 3, the
@@ -177,24 +188,35 @@ mod tests {
     fn a_segment_on_the_mirror_cone_has_the_full_highlight_and_absent_lights_none() {
         // Light and eye both along +z, the strand across them: the cone's cosine is 1.
         let v = view(vec![Vec3::Z, Vec3::X]);
-        let q = segment_highlights(&v, Vec3::new(-1.0, 0.0, 0.0), Vec3::X, Vec3::X);
+        let q = segment_highlights(&v, Vec3::new(-1.0, 0.0, 0.0), Vec3::X, Vec3::X, 1.0);
         assert_eq!(q[0], 255);
         // The light along the strand: sin(t, l) = 0 and cos(t, l) cos(t, v) = 0, no highlight.
         assert_eq!(q[1], 0);
         assert_eq!(&q[2..], &[0, 0]);
+        // A faded segment's highlight is weighed by its fade.
+        let faded = segment_highlights(&v, Vec3::new(-1.0, 0.0, 0.0), Vec3::X, Vec3::X, 0.2);
+        assert_eq!(faded[0], 51);
     }
 
     #[test]
-    fn texels_round_the_mean_to_the_nearest_level_in_integers() {
+    fn texels_round_the_fade_weighted_mean_to_the_nearest_level_in_integers() {
+        // Unfaded samples (fade 255 each): the plain mean.
+        let n = |count: u32| 255 * count;
         assert_eq!(highlight_texel(0, 0), 0);
-        assert_eq!(highlight_texel(255 * 200, 200), 255);
+        assert_eq!(highlight_texel(255 * 200, n(200)), 255);
         // 1/2 a level rounds up, less rounds down.
-        assert_eq!(highlight_texel(3, 2), 2);
-        assert_eq!(highlight_texel(5, 4), 1);
+        assert_eq!(highlight_texel(3, n(2)), 2);
+        assert_eq!(highlight_texel(5, n(4)), 1);
         for (sum, count) in [(1000u32, 7u32), (17, 255), (64_000, 255)] {
             let exact = sum as f64 / count as f64;
-            assert!((f64::from(highlight_texel(sum, count)) - exact).abs() <= 0.5);
+            assert!((f64::from(highlight_texel(sum, n(count))) - exact).abs() <= 0.5);
         }
+        // Two samples, spec 1 at fade 0.2 and spec 0 at fade 1: weighted mean 0.2 / 1.2.
+        let (sum, fades) = (quantize_highlight(0.2), quantize_highlight(0.2) + 255);
+        let want = 255.0 * 0.2 / 1.2;
+        assert!((f32::from(highlight_texel(sum, fades)) - want).abs() <= 0.5 + 1.0);
+        // A voxel of fully faded tips has no highlight.
+        assert_eq!(highlight_texel(0, 0), 0);
     }
 
     #[test]
@@ -238,9 +260,9 @@ mod tests {
         assert!(lobe(mean) > 0.99);
         let of_lobes = 0.5 * (lobe(t1) + lobe(t2));
         assert!(of_lobes < 0.5, "{of_lobes}");
-        let q1 = segment_highlights(&v, -t1, t1, t1)[0];
-        let q2 = segment_highlights(&v, -t2, t2, t2)[0];
-        let texel = highlight_texel(q1 + q2, 2);
+        let q1 = segment_highlights(&v, -t1, t1, t1, 1.0)[0];
+        let q2 = segment_highlights(&v, -t2, t2, t2, 1.0)[0];
+        let texel = highlight_texel(q1 + q2, 2 * 255);
         assert!((f32::from(texel) / 255.0 - of_lobes).abs() < 1.0 / 255.0);
     }
 }

@@ -66,6 +66,8 @@
 //! | [`strand_optical_depth`]`(strands: f32, tangent, dir: Vec3, pixel_voxels, optical_width: f32) -> f32` | `strand_optical_depth(strands: f32, tangent, dir: vec3<f32>, pixel_voxels, optical_width: f32) -> f32` |
 //! | [`volume_tangent_coherence`]`(vol: &TexelVolume, x: Vec3) -> f32` | `volume_tangent_coherence(tex, samp, vt: VolumeTexels, x: vec3<f32>) -> f32` |
 //! | [`lod_factor`]`(distance, near, far: f32) -> f32`, [`dither_threshold`]`(px: UVec2) -> f32` | `lod_factor(distance, near, far: f32) -> f32`, `dither_threshold(px: vec2u) -> f32` |
+//! | [`highlights::quantize_highlight`]`(s: f32) -> u32`, [`highlights::highlight_texel`]`(sum, count: u32) -> u8` | `quantize_highlight(s: f32) -> u32`, `highlight_texel(sum, count: u32) -> u32` |
+//! | [`highlights::volume_highlight`]`(vol: &HighlightVolume, x: Vec3, light: usize) -> f32` | `volume_highlight(highlights, volume: texture_3d<f32>, vt: VolumeTexels, x: vec3<f32>, light: u32) -> f32` |
 //!
 //! Physically based hair (`shading = "marschner"`): the real-time lobes of [`marschner`] (Karis
 //! 2016) and the multiple scattering of [`dual_scattering`] (Zinke et al. 2008), WGSL side in
@@ -84,8 +86,9 @@
 //! | [`dual_scattering::DualScattering`] (16-entry tables), [`dual_scattering::DualScattering::at`]`(sin_theta_i) -> DualScatteringAt` | `struct DualScattering` (1072 bytes), `dual_scattering_at(ds, sin_theta_i: f32) -> DualScatteringAt` |
 //! | [`dual_scattering::dual_scattering_lighting`]`(m, ds, t, l, light_color, v, strands: f32, direct: f32) -> Vec3` | `dual_scattering_lighting(m, ds, t, l, light_color, v, strands: f32, direct: f32) -> vec3f` |
 //!
-//! The CPU voxelizer [`voxelize()`] is the reference of the renderer's voxelize and resolve
-//! passes as a whole (the GPU test compares every voxel).
+//! The CPU voxelizer [`voxelize()`] (and [`voxelize::voxelize_lit`] with the integrated
+//! highlights of [`highlights`]) is the reference of the renderer's voxelize and resolve passes as
+//! a whole (the GPU test compares every voxel).
 //!
 //! CPU-only helpers, compositions of the twins above with no WGSL counterpart (their loops live in
 //! the technique's resolve shader): [`StrandFragment`], [`composite_sorted`], [`resolve_k_buffer`],

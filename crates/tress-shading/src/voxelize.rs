@@ -48,7 +48,7 @@
 
 use glam::{IVec3, UVec3, Vec3};
 
-use crate::highlights::{HighlightView, highlight_texel, segment_highlights};
+use crate::highlights::{HighlightView, highlight_texel, quantize_highlight, segment_highlights};
 
 /// Empty voxels kept around the hair's bounding box on its longest side.
 pub const GRID_PAD: u32 = 2;
@@ -261,6 +261,9 @@ pub struct VoxelCounts {
     /// Per voxel: the accepted samples' quantized highlight sums, a light each
     /// ([`crate::highlights`]; zero without a [`HighlightView`]).
     pub highlight_sums: Vec<[u32; 4]>,
+    /// Per voxel: the accepted samples' quantized tip fades, summed
+    /// ([`crate::highlights::quantize_highlight`] of the fade: 255 a sample without fade).
+    pub fade_sums: Vec<u32>,
     /// Samples deposited in all (accepted and dropped).
     pub deposits: u64,
     /// Samples dropped because their voxel's counter was at the capacity.
@@ -275,12 +278,13 @@ impl VoxelCounts {
             counts: vec![0; n],
             tangent_sums: vec![UVec3::ZERO; n],
             highlight_sums: vec![[0; 4]; n],
+            fade_sums: vec![0; n],
             deposits: 0,
             dropped: 0,
         }
     }
 
-    fn deposit(&mut self, q: UVec3, tangent: UVec3, highlights: [u32; 4], cap: u32) {
+    fn deposit(&mut self, q: UVec3, tangent: UVec3, (highlights, fade): ([u32; 4], u32), cap: u32) {
         let i = self.grid.index(q >> SUBVOXEL_BITS);
         let old = self.counts[i];
         self.counts[i] += 1;
@@ -289,6 +293,7 @@ impl VoxelCounts {
             self.dropped += 1;
         } else {
             self.tangent_sums[i] += tangent;
+            self.fade_sums[i] += fade;
             for (sum, h) in self.highlight_sums[i].iter_mut().zip(highlights) {
                 *sum += h;
             }
@@ -352,7 +357,10 @@ pub fn voxelize_lit(
         let w = fade.map_or(1.0, |(t, r)| segment_fade(t[v0], t[v1], r));
         let t = segment_tangent(p0, p1);
         let tq = quantize_tangent(t * w);
-        let hq = view.map_or([0; 4], |v| segment_highlights(v, p0, p1, t));
+        let hq = (
+            view.map_or([0; 4], |v| segment_highlights(v, p0, p1, t, w)),
+            quantize_highlight(w),
+        );
         let (q0, q1) = (grid.fixed_point(p0), grid.fixed_point(p1));
         match mode {
             VoxelizeMode::Segments => {
@@ -383,7 +391,7 @@ pub struct VoxelValue {
     pub density: f32,
     /// The clamped counts summed over the filter's box (the voxel's count without a filter).
     pub count: u32,
-    /// The highlight texel: the mean quantized highlight of each light over those counts
+    /// The highlight texel: each light's fade-weighted mean quantized highlight over the box
     /// ([`crate::highlights::highlight_texel`]).
     pub highlights: [u8; 4],
 }
@@ -405,6 +413,7 @@ pub fn resolve(counts: &VoxelCounts, v: UVec3, radius: u32, weight: f32, cap: u3
     let mut c = 0u32;
     let mut sum = UVec3::ZERO;
     let mut lit = [0u32; 4];
+    let mut fades = 0u32;
     for dz in -r..=r {
         for dy in -r..=r {
             for dx in -r..=r {
@@ -415,6 +424,7 @@ pub fn resolve(counts: &VoxelCounts, v: UVec3, radius: u32, weight: f32, cap: u3
                 let i = g.index(n.as_uvec3());
                 c += counts.clamped(i, cap);
                 sum += counts.tangent_sums[i];
+                fades += counts.fade_sums[i];
                 for (l, h) in lit.iter_mut().zip(counts.highlight_sums[i]) {
                     *l += h;
                 }
@@ -426,7 +436,7 @@ pub fn resolve(counts: &VoxelCounts, v: UVec3, radius: u32, weight: f32, cap: u3
         tangent: dequantize_tangent(sum.as_vec3(), c as f32),
         density: c as f32 / (side * side * side) * weight,
         count: c,
-        highlights: lit.map(|l| highlight_texel(l, c)),
+        highlights: lit.map(|l| highlight_texel(l, fades)),
     }
 }
 

@@ -47,6 +47,7 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     var c = 0u;
     var sum = vec3<u32>(0u);
     var lit = vec4<u32>(0u);
+    var fades = 0u;
     for (var dz = -r; dz <= r; dz = dz + 1) {
         for (var dy = -r; dy <= r; dy = dy + 1) {
             for (var dx = -r; dx <= r; dx = dx + 1) {
@@ -57,7 +58,9 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
                 let i = voxel_index(res, vec3<u32>(n));
                 c = c + min(counts[i], volume.capacity);
                 let xy = tangent_xy[i];
-                sum = sum + vec3<u32>(xy & 0xffffu, xy >> 16u, tangent_z[i]);
+                let z = tangent_z[i];
+                sum = sum + vec3<u32>(xy & 0xffffu, xy >> 16u, z & 0xffffu);
+                fades = fades + (z >> 16u);
                 let h01 = highlight_sums[2u * i];
                 let h23 = highlight_sums[2u * i + 1u];
                 lit = lit + vec4<u32>(h01 & 0xffffu, h01 >> 16u, h23 & 0xffffu, h23 >> 16u);
@@ -70,8 +73,8 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     let tangent = dequantize_tangent(vec3<f32>(sum), f32(c));
     textureStore(volume_out, v, encode_texel(tangent, c));
     let h = vec4<u32>(
-        highlight_texel(lit.x, c), highlight_texel(lit.y, c),
-        highlight_texel(lit.z, c), highlight_texel(lit.w, c));
+        highlight_texel(lit.x, fades), highlight_texel(lit.y, fades),
+        highlight_texel(lit.z, fades), highlight_texel(lit.w, fades));
     textureStore(highlights_out, v, vec4<f32>(h) / 255.0);
     if c > 0u {
         let last = vec3<i32>(i32(volume.occupancy_res) - 1);

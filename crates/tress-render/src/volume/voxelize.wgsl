@@ -11,7 +11,8 @@
 @group(0) @binding(0) var<uniform> volume: VolumeParams;
 @group(0) @binding(1) var<storage, read> grid: VolumeGrid;
 @group(0) @binding(2) var<storage, read_write> counts: array<atomic<u32>>;
-// Quantized tangent sums: x in the low 16 bits, y in the high 16 bits; z.
+// Quantized tangent sums: x in the low 16 bits, y in the high 16 bits; z in the low 16 bits and
+// the quantized tip fades (the highlights' weights) in the high 16 bits.
 @group(0) @binding(3) var<storage, read_write> tangent_xy: array<atomic<u32>>;
 @group(0) @binding(4) var<storage, read_write> tangent_z: array<atomic<u32>>;
 @group(0) @binding(5) var<storage, read_write> stats: VoxelStats;
@@ -21,9 +22,10 @@
 var<workgroup> wg_deposits: atomic<u32>;
 var<workgroup> wg_dropped: atomic<u32>;
 
-// The quantized highlights of a segment for each light (tress_shading::highlights::
-// segment_highlights), packed two to a word; zero when the volume integrates none.
-fn segment_highlights(p0: vec3<f32>, p1: vec3<f32>, t: vec3<f32>) -> vec2<u32> {
+// The quantized highlights of a segment of tip fade `fade` for each light, quantize(fade * spec)
+// (tress_shading::highlights::segment_highlights), packed two to a word; zero when the volume
+// integrates none.
+fn segment_highlights(p0: vec3<f32>, p1: vec3<f32>, t: vec3<f32>, fade: f32) -> vec2<u32> {
     if volume.highlights == 0u {
         return vec2<u32>(0u);
     }
@@ -38,13 +40,14 @@ fn segment_highlights(p0: vec3<f32>, p1: vec3<f32>, t: vec3<f32>) -> vec2<u32> {
     var q = vec4<u32>(0u);
     for (var i = 0u; i < min(volume.light_count, 4u); i = i + 1u) {
         let l = volume.light_dirs[i].xyz;
-        q[i] = quantize_highlight(kajiya_kay_specular(t, l, v, volume.highlight_exponent));
+        q[i] = quantize_highlight(fade * kajiya_kay_specular(t, l, v, volume.highlight_exponent));
     }
     return vec2<u32>(q.x | (q.y << 16u), q.z | (q.w << 16u));
 }
 
-// Add one sample at fixed-point position `q`; returns 1 when it was dropped.
-fn deposit(q: vec3<u32>, tq: vec3<u32>, hq: vec2<u32>) -> u32 {
+// Add one sample at fixed-point position `q` (quantized tangent `tq`, highlights `hq`, fade
+// `fq`); returns 1 when it was dropped.
+fn deposit(q: vec3<u32>, tq: vec3<u32>, hq: vec2<u32>, fq: u32) -> u32 {
     let i = voxel_index(grid.res, q >> vec3<u32>(SUBVOXEL_BITS));
     let old = atomicAdd(&counts[i], 1u);
     // Design rule 8: check against the capacity, count what is dropped.
@@ -52,7 +55,7 @@ fn deposit(q: vec3<u32>, tq: vec3<u32>, hq: vec2<u32>) -> u32 {
         return 1u;
     }
     atomicAdd(&tangent_xy[i], tq.x | (tq.y << 16u));
-    atomicAdd(&tangent_z[i], tq.z);
+    atomicAdd(&tangent_z[i], tq.z | (fq << 16u));
     // Most samples are far from every light's mirror cone: their zero adds are skipped.
     if hq.x != 0u {
         atomicAdd(&highlight_sums[2u * i], hq.x);
@@ -88,7 +91,8 @@ fn voxelize(
         }
         let t = segment_tangent(p0, p1);
         let tq = quantize_tangent(t * fade);
-        let hq = segment_highlights(p0, p1, t);
+        let hq = segment_highlights(p0, p1, t, fade);
+        let fq = quantize_highlight(fade);
         let q0 = fixed_point(grid, p0);
         let q1 = fixed_point(grid, p1);
         var deposits = 0u;
@@ -98,11 +102,11 @@ fn voxelize(
             let a = vec3<i32>(q0);
             let d = vec3<i32>(q1) - a;
             for (var k = 0u; k < n; k = k + 1u) {
-                dropped = dropped + deposit(segment_sample(a, d, k, n), tq, hq);
+                dropped = dropped + deposit(segment_sample(a, d, k, n), tq, hq, fq);
             }
             deposits = n;
         } else {
-            dropped = deposit(q0, tq, hq);
+            dropped = deposit(q0, tq, hq, fq);
             deposits = 1u;
             // The last segment of a strand also deposits the strand's last vertex.
             var last = s + 1u >= volume.segment_count;
@@ -111,7 +115,7 @@ fn voxelize(
                 last = next.y != seg.y || next.x != seg.x + 1u;
             }
             if last {
-                dropped = dropped + deposit(q1, tq, hq);
+                dropped = dropped + deposit(q1, tq, hq, fq);
                 deposits = 2u;
             }
         }

@@ -61,6 +61,9 @@ pub struct VolumeReadback {
     pub tangent_sums: Vec<[u32; 3]>,
     /// Per voxel: quantized highlight sums of the accepted samples, a light each.
     pub highlight_sums: Vec<[u32; 4]>,
+    /// Per voxel: quantized tip fades of the accepted samples, summed (the high half of the
+    /// tangent's z word).
+    pub fade_sums: Vec<u32>,
     /// Per voxel: the highlight texel's bytes, a light each.
     pub highlight_texels: Vec<[u8; 4]>,
     /// Per voxel: the texel read as the mean tangent and the density.
@@ -675,8 +678,9 @@ impl Voxelizer {
             tangent_sums: xy
                 .iter()
                 .zip(&z)
-                .map(|(&xy, &z)| [xy & 0xffff, xy >> 16, z])
+                .map(|(&xy, &z)| [xy & 0xffff, xy >> 16, z & 0xffff])
                 .collect(),
+            fade_sums: z.iter().map(|&z| z >> 16).collect(),
             highlight_sums: highlight_words
                 .chunks_exact(2)
                 .map(|w| tress_shading::highlights::unpack_highlights([w[0], w[1]]))

@@ -495,13 +495,14 @@ fn quantize_highlight(s: f32) -> u32 {
     return u32(floor(clamp(s, 0.0, 1.0) * HIGHLIGHT_LEVELS + 0.5));
 }
 
-// The texel byte of a voxel's highlight: the mean of `count` samples summing to `sum`, rounded
-// to the nearest level in integers; 0 without samples.
-fn highlight_texel(sum: u32, count: u32) -> u32 {
-    if count == 0u {
+// The texel byte of a voxel's highlight: the fade-weighted mean of its samples, their quantized
+// fade * spec summing to `sum` over quantized fades summing to `fades`, to the nearest level in
+// integers; 0 without fade.
+fn highlight_texel(sum: u32, fades: u32) -> u32 {
+    if fades == 0u {
         return 0u;
     }
-    return min((2u * sum + count) / (2u * count), 255u);
+    return min((510u * sum + fades) / (2u * fades), 255u);
 }
 
 // The highlight of light `light` at voxel position `x`: the density-weighted trilinear mean of
