@@ -178,6 +178,12 @@ fn volume_settings(ui: &mut Ui, v: &VolumeSettings, form: &mut Form<'_>) {
     );
     form.int(ui, "volume.steps", v.steps, 8..=2048, true);
     form.choice(ui, "volume.opacity", v.opacity.name(), &["strands", "iso"]);
+    form.choice(
+        ui,
+        "volume.highlights",
+        v.highlights.name(),
+        &["strands", "mean_tangent"],
+    );
     form.log_float(ui, "volume.iso", v.iso, 0.05..=64.0, Apply::Live);
     form.check(ui, "volume.skip_empty", v.skip_empty);
     form.check(ui, "volume.shadows", v.shadows);
