@@ -119,6 +119,23 @@ pub(crate) fn texture_3d(
     )
 }
 
+/// A write-only 3D storage texture of `format`.
+pub(crate) fn write_texture_3d(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    format: wgpu::TextureFormat,
+) -> wgpu::BindGroupLayoutEntry {
+    entry(
+        binding,
+        visibility,
+        wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension: wgpu::TextureViewDimension::D3,
+        },
+    )
+}
+
 pub(crate) fn filtering_sampler(
     binding: u32,
     visibility: wgpu::ShaderStages,

@@ -105,51 +105,14 @@ fn run(ctx: &tress_render::GpuContext, cases: &[Case], density: &[f32]) -> Vec<[
         include_str!("volume_gpu.wgsl"),
         "test/volume/shader",
     );
-    let texels: Vec<u8> = texels(density).into_iter().flatten().collect();
-    let size = wgpu::Extent3d {
-        width: RES,
-        height: RES,
-        depth_or_array_layers: RES,
-    };
-    let texture = ctx.device.create_texture_with_data(
-        &ctx.queue,
-        &wgpu::TextureDescriptor {
-            label: Some("test/volume/texture"),
-            size,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D3,
-            format: tress_render::volume::VOLUME_FORMAT,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        },
-        wgpu::util::TextureDataOrder::LayerMajor,
-        &texels,
-    );
+    let view = volume_view(ctx, "test/volume/texture", &texels(density));
     let sampler = ctx.device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some("test/volume/sampler"),
         mag_filter: wgpu::FilterMode::Linear,
         min_filter: wgpu::FilterMode::Linear,
         ..Default::default()
     });
-    let view = texture.create_view(&Default::default());
-    let highlights: Vec<u8> = highlight_texels().into_iter().flatten().collect();
-    let highlight_texture = ctx.device.create_texture_with_data(
-        &ctx.queue,
-        &wgpu::TextureDescriptor {
-            label: Some("test/volume/highlights"),
-            size,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D3,
-            format: tress_render::volume::VOLUME_FORMAT,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        },
-        wgpu::util::TextureDataOrder::LayerMajor,
-        &highlights,
-    );
-    let highlight_view = highlight_texture.create_view(&Default::default());
+    let highlight_view = volume_view(ctx, "test/volume/highlights", &highlight_texels());
     run_cases(
         ctx,
         "test/volume",
@@ -162,6 +125,34 @@ fn run(ctx: &tress_render::GpuContext, cases: &[Case], density: &[f32]) -> Vec<[
             (4, wgpu::BindingResource::TextureView(&highlight_view)),
         ],
     )
+}
+
+/// A `RES³` texture of the volume's format holding `texels`, x fastest, and its view.
+fn volume_view(
+    ctx: &tress_render::GpuContext,
+    label: &str,
+    texels: &[[u8; 4]],
+) -> wgpu::TextureView {
+    let texture = ctx.device.create_texture_with_data(
+        &ctx.queue,
+        &wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: RES,
+                height: RES,
+                depth_or_array_layers: RES,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D3,
+            format: tress_render::volume::VOLUME_FORMAT,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytemuck::cast_slice(texels),
+    );
+    texture.create_view(&Default::default())
 }
 
 /// Each texel's four highlight bytes: every light different, some zero (empty and lit texels

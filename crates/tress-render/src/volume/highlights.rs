@@ -1,10 +1,5 @@
 //! How the raymarcher shades Kajiya-Kay's specular highlight (`volume.highlights`).
 
-use std::fmt;
-use std::str::FromStr;
-
-use crate::RenderError;
-
 /// Where the volume's Kajiya-Kay highlights come from.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Highlights {
@@ -20,34 +15,10 @@ pub enum Highlights {
     MeanTangent,
 }
 
-impl Highlights {
-    /// The setting's spelling.
-    pub fn name(self) -> &'static str {
-        match self {
-            Highlights::Strands => "strands",
-            Highlights::MeanTangent => "mean_tangent",
-        }
-    }
-}
-
-impl FromStr for Highlights {
-    type Err = RenderError;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "strands" => Ok(Highlights::Strands),
-            "mean_tangent" => Ok(Highlights::MeanTangent),
-            _ => Err(RenderError::Invalid(format!(
-                "unknown volume.highlights `{s}` (expected strands or mean_tangent)"
-            ))),
-        }
-    }
-}
-
-impl fmt::Display for Highlights {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
+named_setting!(Highlights, "volume.highlights", {
+    Strands => "strands",
+    MeanTangent => "mean_tangent",
+});
 
 #[cfg(test)]
 mod tests {

@@ -119,6 +119,41 @@
 //! mode the texel holds the filter box's summed count, at most 255 (a mean of 9.4 per voxel of a
 //! `3³` box): a box summing more is clamped and counted ([`VolumeStats::saturated`]).
 
+/// `name()`, `FromStr` and `Display` of a `volume.*` setting's enum from its spellings: an
+/// unknown spelling is an error naming the key, the value and the choices.
+macro_rules! named_setting {
+    ($ty:ident, $key:literal, { $($variant:ident => $name:literal),+ $(,)? }) => {
+        impl $ty {
+            /// The setting's spelling.
+            pub fn name(self) -> &'static str {
+                match self {
+                    $($ty::$variant => $name),+
+                }
+            }
+        }
+
+        impl std::str::FromStr for $ty {
+            type Err = crate::RenderError;
+            fn from_str(s: &str) -> Result<Self, Self::Err> {
+                match s {
+                    $($name => Ok($ty::$variant),)+
+                    _ => Err(crate::RenderError::Invalid(format!(
+                        "unknown {} `{s}` (expected {})",
+                        $key,
+                        [$($name),+].join(" or ")
+                    ))),
+                }
+            }
+        }
+
+        impl std::fmt::Display for $ty {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+    };
+}
+
 mod highlights;
 mod occlusion;
 mod opacity;

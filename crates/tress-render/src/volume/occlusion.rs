@@ -1,11 +1,6 @@
 //! How the volume's shadows and ambient occlusion turn the density volume into strands in the
 //! way of a ray (`volume.occlusion`).
 
-use std::fmt;
-use std::str::FromStr;
-
-use crate::RenderError;
-
 /// The occlusion model of volume shadows and ambient occlusion.
 ///
 /// Both march the density volume and raise `1 - alpha` to the number of strands in the way; the
@@ -27,14 +22,6 @@ pub enum Occlusion {
 }
 
 impl Occlusion {
-    /// The setting's spelling.
-    pub fn name(self) -> &'static str {
-        match self {
-            Occlusion::Adsm => "adsm",
-            Occlusion::Strands => "strands",
-        }
-    }
-
     /// `VolumeParams.occlusion` (`OCCLUSION_*` in `common/volume.wgsl`).
     pub fn gpu(self) -> u32 {
         match self {
@@ -44,24 +31,7 @@ impl Occlusion {
     }
 }
 
-impl FromStr for Occlusion {
-    type Err = RenderError;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "adsm" => Ok(Occlusion::Adsm),
-            "strands" => Ok(Occlusion::Strands),
-            _ => Err(RenderError::Invalid(format!(
-                "unknown volume.occlusion `{s}` (expected adsm or strands)"
-            ))),
-        }
-    }
-}
-
-impl fmt::Display for Occlusion {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
+named_setting!(Occlusion, "volume.occlusion", { Adsm => "adsm", Strands => "strands" });
 
 #[cfg(test)]
 mod tests {

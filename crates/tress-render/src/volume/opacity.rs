@@ -1,11 +1,6 @@
 //! How the raymarcher turns the strands along an eye ray into the hair's opacity
 //! (`volume.opacity`).
 
-use std::fmt;
-use std::str::FromStr;
-
-use crate::RenderError;
-
 /// The opacity model of the raymarched volume.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Opacity {
@@ -22,34 +17,7 @@ pub enum Opacity {
     Iso,
 }
 
-impl Opacity {
-    /// The setting's spelling.
-    pub fn name(self) -> &'static str {
-        match self {
-            Opacity::Strands => "strands",
-            Opacity::Iso => "iso",
-        }
-    }
-}
-
-impl FromStr for Opacity {
-    type Err = RenderError;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "strands" => Ok(Opacity::Strands),
-            "iso" => Ok(Opacity::Iso),
-            _ => Err(RenderError::Invalid(format!(
-                "unknown volume.opacity `{s}` (expected strands or iso)"
-            ))),
-        }
-    }
-}
-
-impl fmt::Display for Opacity {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
+named_setting!(Opacity, "volume.opacity", { Strands => "strands", Iso => "iso" });
 
 #[cfg(test)]
 mod tests {

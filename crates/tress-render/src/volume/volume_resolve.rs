@@ -1,6 +1,6 @@
 //! [`VolumeResolve`], owner of `volume_resolve.wgsl`.
 
-use crate::bind::{bind_group_layout, storage, uniform};
+use crate::bind::{bind_group_layout, storage, uniform, write_texture_3d};
 use crate::gpu::pipeline::{compute_pipeline, pipeline_layout};
 use crate::{GpuContext, RenderError, shaders};
 
@@ -33,30 +33,12 @@ impl VolumeResolve {
                     storage(2, c, true),
                     storage(3, c, true),
                     storage(4, c, true),
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 5,
-                        visibility: c,
-                        ty: wgpu::BindingType::StorageTexture {
-                            access: wgpu::StorageTextureAccess::WriteOnly,
-                            format: VOLUME_FORMAT,
-                            view_dimension: wgpu::TextureViewDimension::D3,
-                        },
-                        count: None,
-                    },
+                    write_texture_3d(5, c, VOLUME_FORMAT),
                     storage(6, c, false),
                     storage(7, c, true),
                     storage(8, c, false),
                     storage(9, c, true),
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 10,
-                        visibility: c,
-                        ty: wgpu::BindingType::StorageTexture {
-                            access: wgpu::StorageTextureAccess::WriteOnly,
-                            format: VOLUME_FORMAT,
-                            view_dimension: wgpu::TextureViewDimension::D3,
-                        },
-                        count: None,
-                    },
+                    write_texture_3d(10, c, VOLUME_FORMAT),
                 ],
             );
             let pipeline_layout = pipeline_layout(
