@@ -19,7 +19,9 @@ pub fn encoded_buffer_size<T: PrimInt>(count: usize) -> usize {
         0
     } else {
         let sz = mem::size_of::<T>();
-        sz + (count * 2).div_ceil(8) + (sz * count)
+        // tress patch: saturating, as `count` comes from the file.
+        sz.saturating_add(count.saturating_mul(2).div_ceil(8))
+            .saturating_add(sz.saturating_mul(count))
     }
 }
 
@@ -41,11 +43,12 @@ where
         codes_reader.read_pod::<i32>()? as i64
     };
 
-    let num_code_bytes = (count * 2).div_ceil(8);
+    let num_code_bytes = count.saturating_mul(2).div_ceil(8);
 
     let mut ints_reader = {
         let offset = mem::size_of::<T>() + num_code_bytes;
-        io::Cursor::new(&data[offset..])
+        // tress patch: a short buffer is an error below, not a panic here.
+        io::Cursor::new(data.get(offset..).unwrap_or_default())
     };
 
     let mut prev = 0_i64;

@@ -3,7 +3,7 @@
 use std::{
     any::type_name,
     collections::HashMap,
-    io::{self, Cursor},
+    io::{self, Cursor, Read as _},
     mem, str, vec,
 };
 
@@ -28,6 +28,9 @@ use super::layout::*;
 //   0.12.0 — Splines
 const SW_VERSION: Version = version(0, 12, 0);
 
+/// tress patch: the most elements reserved ahead of reading them, for counts from the file.
+const PREALLOCATE: usize = 1024;
+
 /// Crate file represents structural data loaded from a USDC file on disk.
 #[derive(Debug)]
 pub struct CrateFile<R> {
@@ -50,7 +53,13 @@ pub struct CrateFile<R> {
     pub paths: Vec<sdf::Path>,
     // All specs.
     pub specs: Vec<Spec>,
+    /// Values being read inside one another (tress patch: dictionaries and time samples nest).
+    depth: usize,
 }
+
+/// tress patch: the deepest nesting of dictionaries and time samples read (each level is a
+/// Rust stack frame of `value`; a hostile file nested thousands deep overflowed the stack).
+const MAX_VALUE_DEPTH: usize = 64;
 
 impl<R> CrateFile<R> {
     /// Returns file's version extracted from bootstrap header.
@@ -75,6 +84,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             fieldsets: Vec::new(),
             paths: Vec::new(),
             specs: Vec::new(),
+            depth: 0,
         };
 
         file.read_sections().context("Unable to read sections")?;
@@ -185,7 +195,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         let count = self.reader.read_count()?;
 
         self.tokens = if file_ver < version(0, 4, 0) {
-            todo!("Support TOKENS reader for < 0.4.0 files");
+            bail!("Unsupported crate version: TOKENS before 0.4.0");
         } else {
             let uncompressed_size = self.reader.read_count()?;
             let mut buffer = self.read_compressed(uncompressed_size)?;
@@ -263,7 +273,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         let file_ver = self.version();
 
         self.fields = if file_ver < version(0, 4, 0) {
-            todo!("Support FIELDS reader before < 0.4.0")
+            bail!("Unsupported crate version: FIELDS before 0.4.0")
         } else {
             let field_count = self.reader.read_count()?;
 
@@ -297,7 +307,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         let file_ver = self.version();
 
         self.fieldsets = if file_ver < version(0, 4, 0) {
-            todo!("Support FIELDSETS reader for < 0.4.0 files");
+            bail!("Unsupported crate version: FIELDSETS before 0.4.0");
         } else {
             let count = self.reader.read_count()?;
 
@@ -328,24 +338,29 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         let file_ver = self.version();
 
         if file_ver == version(0, 0, 1) {
-            todo!("Support PATHS reader for == 0.0.1 files");
+            bail!("Unsupported crate version: PATHS in 0.0.1");
         } else if file_ver < version(0, 4, 0) {
-            todo!("Support PATHS reader for < 0.4.0 files");
+            bail!("Unsupported crate version: PATHS before 0.4.0");
         } else {
             // Read # of paths.
             let path_count = self.reader.read_count()?;
-            self.paths = vec![sdf::Path::default(); path_count];
-
-            self.read_compressed_paths()?;
+            self.read_compressed_paths(path_count)?;
         };
 
         Ok(())
     }
 
     /// Read compressed paths.
-    fn read_compressed_paths(&mut self) -> Result<()> {
+    fn read_compressed_paths(&mut self, path_count: usize) -> Result<()> {
         // Read number of encoded paths.
         let count: usize = self.reader.read_count()?;
+        // tress patch: every path is one encoded entry, so a larger count cannot be true (and
+        // it sized an allocation).
+        ensure!(
+            path_count <= count,
+            "PATHS section claims {path_count} paths but encodes {count}"
+        );
+        self.paths = vec![sdf::Path::default(); path_count];
 
         // Read compressed data.
 
@@ -388,22 +403,40 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         }
 
         let mut pending = vec![(0usize, sdf::Path::default())];
+        // tress patch: indices from the file are checked, and each entry is decoded once (a
+        // valid tree visits every entry once; jumps that meet made the work exponential).
+        let count = path_indexes.len().min(element_token_indexes.len()).min(jumps.len());
+        let mut visited = vec![false; count];
+        let path_slot = |paths_len: usize, index: usize| -> Result<usize> {
+            let slot = path_indexes[index] as usize;
+            ensure!(slot < paths_len, "Path index {slot} is out of range ({paths_len} paths)");
+            Ok(slot)
+        };
 
         while let Some((mut current_index, mut parent_path)) = pending.pop() {
             loop {
                 let index = current_index;
                 current_index += 1;
+                ensure!(index < count, "Path entry {index} is out of range ({count} entries)");
+                ensure!(!visited[index], "Path entry {index} is reached twice");
+                visited[index] = true;
 
                 if parent_path.is_empty() {
                     parent_path = sdf::Path::new("/")?;
-                    self.paths[index] = parent_path.clone();
+                    let root = self.paths.get_mut(index).context("No path for the root entry")?;
+                    *root = parent_path.clone();
                 } else {
                     let token_index = element_token_indexes[index];
                     let is_prim_property_path = token_index < 0;
                     let token_index = token_index.unsigned_abs() as usize;
-                    let element_token = self.tokens[token_index].as_str();
+                    let element_token = self
+                        .tokens
+                        .get(token_index)
+                        .with_context(|| format!("Path element token {token_index} is out of range"))?
+                        .as_str();
 
-                    self.paths[path_indexes[index] as usize] = if is_prim_property_path {
+                    let slot = path_slot(self.paths.len(), index)?;
+                    self.paths[slot] = if is_prim_property_path {
                         parent_path.append_property(element_token)?
                     } else if element_token.starts_with('{') {
                         // Variant segments are appended directly without a separator
@@ -419,14 +452,14 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
                 if has_child {
                     if has_sibling {
-                        let sibling_index = index + jumps[index] as usize;
+                        let sibling_index = index.saturating_add(jumps[index] as usize);
                         // Siblings share this node's parent; defer the subtree.
                         pending.push((sibling_index, parent_path.clone()));
                     }
 
                     // Descend into the child (the next sequential entry) under
                     // this node's path.
-                    parent_path = self.paths[path_indexes[index] as usize].clone();
+                    parent_path = self.paths[path_slot(self.paths.len(), index)?].clone();
                 }
 
                 if !has_child && !has_sibling {
@@ -448,9 +481,9 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         let file_ver = self.version();
 
         self.specs = if file_ver == version(0, 0, 1) {
-            todo!("Support SPECS reader for == 0.0.1 files");
+            bail!("Unsupported crate version: SPECS in 0.0.1");
         } else if file_ver < version(0, 4, 0) {
-            todo!("Support SPECS reader for < 0.4.0 files");
+            bail!("Unsupported crate version: SPECS before 0.4.0");
         } else {
             // Version 0.4.0 specs are compressed
 
@@ -483,9 +516,28 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         self.sections.iter().find(|s| s.name() == name)
     }
 
-    fn resolve_string(&self, string_index: u32) -> String {
-        let token = self.strings[string_index as usize];
-        self.tokens[token].clone()
+    fn resolve_string(&self, string_index: u32) -> Result<String> {
+        let token = *self
+            .strings
+            .get(string_index as usize)
+            .with_context(|| format!("String index {string_index} is out of range"))?;
+        self.token(token)
+    }
+
+    /// tress patch: a token by an index from the file, checked.
+    fn token(&self, index: usize) -> Result<String> {
+        self.tokens
+            .get(index)
+            .cloned()
+            .with_context(|| format!("Token index {index} is out of range ({} tokens)", self.tokens.len()))
+    }
+
+    /// tress patch: a path by an index from the file, checked.
+    fn path(&self, index: usize) -> Result<sdf::Path> {
+        self.paths
+            .get(index)
+            .cloned()
+            .with_context(|| format!("Path index {index} is out of range ({} paths)", self.paths.len()))
     }
 
     fn set_position(&mut self, position: u64) -> Result<()> {
@@ -516,9 +568,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
     fn read_token(&mut self, value: ValueRep) -> Result<String> {
         let index: u64 = self.unpack_value(value)?;
-        let value = self.tokens[index as usize].clone();
-
-        Ok(value)
+        self.token(usize::try_from(index).unwrap_or(usize::MAX))
     }
 
     /// Read a scalar asset path or path expression.
@@ -530,9 +580,9 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     fn read_asset_path(&mut self, value: ValueRep) -> Result<String> {
         let index = self.unpack_value::<u32>(value)?;
         if value.is_inlined() {
-            Ok(self.tokens[index as usize].clone())
+            self.token(index as usize)
         } else {
-            Ok(self.resolve_string(index))
+            self.resolve_string(index)
         }
     }
 
@@ -547,8 +597,16 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     fn read_compressed<T: Default + NoUninit + AnyBitPattern>(&mut self, estimated_count: usize) -> Result<Vec<T>> {
         // Read data to memory.
         let compressed_size = self.reader.read_count()?;
-        let mut input = vec![0_u8; compressed_size];
-        self.reader.read_exact(&mut input)?;
+        let input: Vec<u8> = self.reader.read_vec(compressed_size)?;
+
+        // tress patch: LZ4 expands a byte into at most 255, so a larger estimate (a count from
+        // the file) cannot be true, and it sized the output buffer.
+        let estimated_bytes = estimated_count.saturating_mul(mem::size_of::<T>());
+        ensure!(
+            estimated_bytes <= input.len().saturating_mul(255),
+            "Compressed block of {} bytes cannot hold {estimated_bytes} bytes",
+            input.len()
+        );
 
         // Decompress to output buffer.
         let mut output = vec![T::default(); estimated_count];
@@ -669,7 +727,9 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 // straight out of LZ4.
                 b'i' => {
                     let ints: Vec<i32> = self.read_encoded_ints(count)?;
-                    ints.into_iter().map(|i| cast(i).unwrap()).collect()
+                    ints.into_iter()
+                        .map(|i| cast(i).context("Compressed integer does not fit the float type"))
+                        .collect::<Result<_>>()?
                 }
                 // Lookup table and indexes
                 b't' => {
@@ -682,12 +742,14 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                         "Read invalid number of indexes to decompress doubles array"
                     );
 
-                    let mut output = vec![T::zero(); count];
-                    for (i, index) in indexes.into_iter().enumerate() {
-                        output[i] = lut[index as usize];
-                    }
-
-                    output
+                    indexes
+                        .into_iter()
+                        .map(|index| {
+                            lut.get(index as usize)
+                                .copied()
+                                .with_context(|| format!("Lookup index {index} is out of range ({lut_size} values)"))
+                        })
+                        .collect::<Result<_>>()?
                 }
                 _ => bail!("Invalid compressed double array code: {code}"),
             }
@@ -742,23 +804,23 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
     /// Reads a count-prefixed vector of `u32` indices and maps each through
     /// `lookup` to produce the element value.
-    fn read_indexed_vec<T>(&mut self, lookup: impl Fn(&Self, usize) -> T) -> Result<Vec<T>> {
+    fn read_indexed_vec<T>(&mut self, lookup: impl Fn(&Self, usize) -> Result<T>) -> Result<Vec<T>> {
         let count = self.reader.read_count()?;
         let indices = self.reader.read_vec::<u32>(count)?;
 
-        Ok(indices.into_iter().map(|index| lookup(self, index as usize)).collect())
+        indices.into_iter().map(|index| lookup(self, index as usize)).collect()
     }
 
     fn read_string_vec(&mut self) -> Result<Vec<String>> {
-        self.read_indexed_vec(|file, index| file.tokens[file.strings[index]].clone())
+        self.read_indexed_vec(|file, index| file.resolve_string(index as u32))
     }
 
     fn read_token_vec(&mut self) -> Result<Vec<String>> {
-        self.read_indexed_vec(|file, index| file.tokens[index].clone())
+        self.read_indexed_vec(|file, index| file.token(index))
     }
 
     fn read_path_vec(&mut self) -> Result<Vec<sdf::Path>> {
-        self.read_indexed_vec(|file, index| file.paths[index].clone())
+        self.read_indexed_vec(|file, index| file.path(index))
     }
 
     /// Reads a count-prefixed vector of POD values.
@@ -769,16 +831,12 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
     fn read_string(&mut self) -> Result<String> {
         let index = self.reader.read_pod::<u32>()?;
-        let string = self.resolve_string(index);
-
-        Ok(string)
+        self.resolve_string(index)
     }
 
     fn read_path(&mut self) -> Result<sdf::Path> {
         let index = self.reader.read_pod::<u32>()?;
-        let path = self.paths[index as usize].clone();
-
-        Ok(path)
+        self.path(index as usize)
     }
 
     fn read_reference(&mut self) -> Result<sdf::Reference> {
@@ -825,7 +883,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     /// See <https://github.com/PixarAnimationStudios/OpenUSD/blob/0b18ad3f840c24eb25e16b795a5b0821cf05126e/pxr/usd/usd/crateFile.cpp#L1100>
     fn apply_recursive_offset(&mut self) -> Result<()> {
         let offset = self.reader.read_pod::<i64>()?;
-        self.reader.seek(io::SeekFrom::Current(offset - 8))?;
+        let offset = offset.checked_sub(8).context("Recursive offset out of range")?;
+        self.reader.seek(io::SeekFrom::Current(offset))?;
         Ok(())
     }
 
@@ -898,7 +957,9 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             return Ok(Vec::default());
         }
 
-        let flat: Vec<T> = self.reader.read_vec(count * N)?;
+        let flat: Vec<T> = self
+            .reader
+            .read_vec(count.checked_mul(N).context("Array length overflows")?)?;
 
         // Reinterpret the flat vec as a vec of fixed-size arrays. `chunks_exact(N)`
         // always yields slices of exactly N elements, so `try_into` cannot fail.
@@ -911,6 +972,18 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     }
 
     pub fn value(&mut self, value: ValueRep) -> Result<sdf::Value> {
+        // tress patch: dictionaries and time samples read their values through here.
+        ensure!(
+            self.depth < MAX_VALUE_DEPTH,
+            "Values nest deeper than {MAX_VALUE_DEPTH} levels"
+        );
+        self.depth += 1;
+        let result = self.value_at_depth(value);
+        self.depth -= 1;
+        result
+    }
+
+    fn value_at_depth(&mut self, value: ValueRep) -> Result<sdf::Value> {
         let ty = value.ty()?;
         ensure!(ty != Type::Invalid, "Invalid value type");
 
@@ -996,7 +1069,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 ensure!(!value.is_array());
 
                 let string_index = self.unpack_value::<u32>(value)?;
-                sdf::Value::String(self.resolve_string(string_index))
+                sdf::Value::String(self.resolve_string(string_index)?)
             }
             Type::AssetPath if value.is_array() => {
                 // Asset arrays (`asset[]`, e.g. value-clip `assetPaths`) are
@@ -1012,8 +1085,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 let indices = self.reader.read_vec::<u32>(count)?;
                 let tokens = indices
                     .into_iter()
-                    .map(|i| self.tokens[i as usize].as_str().into())
-                    .collect();
+                    .map(|i| self.token(i as usize).map(Into::into))
+                    .collect::<Result<_>>()?;
 
                 sdf::Value::TokenVec(tokens)
             }
@@ -1204,7 +1277,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
                 let list = self.read_list_op(value, |file: &mut Self| {
                     let count = file.reader.read_count()?;
-                    let mut vec = Vec::with_capacity(count);
+                    let mut vec = Vec::with_capacity(count.min(PREALLOCATE));
 
                     for _ in 0..count {
                         let reference = file.read_reference()?;
@@ -1306,7 +1379,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             Type::PayloadListOp => {
                 let list = self.read_list_op(value, |file: &mut Self| {
                     let count = file.reader.read_count()?;
-                    let mut vec = Vec::with_capacity(count);
+                    let mut vec = Vec::with_capacity(count.min(PREALLOCATE));
                     for _ in 0..count {
                         let payload = file.read_payload()?;
                         vec.push(payload);
@@ -1326,7 +1399,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 self.set_position(value.payload())?;
 
                 let count = self.reader.read_count()?;
-                let mut map = HashMap::with_capacity(count);
+                let mut map = HashMap::with_capacity(count.min(PREALLOCATE));
 
                 for _ in 0..count {
                     let key = self.read_string()?;
@@ -1430,12 +1503,12 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 ensure!(!value.is_inlined());
                 self.set_position(value.payload())?;
                 let count = self.reader.read_count()?;
-                let mut pairs = Vec::with_capacity(count);
+                let mut pairs = Vec::with_capacity(count.min(PREALLOCATE));
                 for _ in 0..count {
                     let src_idx: u32 = self.reader.read_pod()?;
                     let tgt_idx: u32 = self.reader.read_pod()?;
-                    let src = self.paths[src_idx as usize].clone();
-                    let tgt = self.paths[tgt_idx as usize].clone();
+                    let src = self.path(src_idx as usize)?;
+                    let tgt = self.path(tgt_idx as usize)?;
                     pairs.push((src, tgt));
                 }
                 sdf::Value::Relocates(pairs)
@@ -1498,7 +1571,7 @@ fn decompress_lz4(mut input: &[u8], output: &mut [u8]) -> Result<usize> {
         // Decompress chunk by chunk.
         // See https://github.com/PixarAnimationStudios/OpenUSD/blob/0b18ad3f840c24eb25e16b795a5b0821cf05126e/pxr/base/tf/fastCompression.cpp#L125
 
-        todo!("Support lz4 chunked decompression")
+        bail!("Chunked lz4 blocks are not supported")
     }
 }
 
@@ -1537,11 +1610,19 @@ impl<R: io::Read> ReadExt for R {
             return Ok(Vec::new());
         }
 
-        let mut vec = vec![T::default(); count];
-        self.read_exact(cast_slice_mut(&mut vec))
+        // tress patch: the buffer grows as bytes arrive instead of being sized by `count` (a
+        // count from the file) up front, so a lying count is an error, not a huge allocation.
+        let size = count
+            .checked_mul(mem::size_of::<T>())
+            .context("Unable to read vec: its size overflows")?;
+        let mut bytes = Vec::new();
+        io::Read::by_ref(self)
+            .take(size as u64)
+            .read_to_end(&mut bytes)
             .context("Unable to read vec")?;
+        ensure!(bytes.len() == size, "Unable to read vec: {count} elements claimed, the data ends first");
 
-        Ok(vec)
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 }
 
