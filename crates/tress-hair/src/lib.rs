@@ -15,6 +15,7 @@ pub mod generate;
 mod kdtree;
 mod merge;
 mod ops;
+pub mod panic_guard;
 pub mod patches;
 pub mod rng;
 

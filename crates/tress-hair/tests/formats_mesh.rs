@@ -67,10 +67,18 @@ fn lying_gltf_files_are_errors() {
 
 #[test]
 fn fuzz_findings_are_errors() {
-    // read_gltf-1: float indices, which the gltf crate's reader treats as unreachable.
-    let input = std::fs::read(data("fuzz/read_gltf-1")).unwrap();
+    // float-indices: float indices, which the gltf crate's reader treats as unreachable.
+    let input = std::fs::read(fuzz_regression("read_gltf", "float-indices")).unwrap();
     assert!(read_gltf(&input, None).is_err());
-    // read_gltf-2: an accessor index past the accessors, on which gltf-json's validation panics.
-    let input = std::fs::read(data("fuzz/read_gltf-2")).unwrap();
+    // position-accessor-index: an accessor index past the accessors, on which gltf-json's validation panics.
+    let input = std::fs::read(fuzz_regression("read_gltf", "position-accessor-index")).unwrap();
     assert!(read_gltf(&input, None).is_err());
+}
+
+/// A committed input of the fuzz target `target` (`fuzz/regressions/TARGET/NAME`).
+fn fuzz_regression(target: &str, name: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fuzz/regressions")
+        .join(target)
+        .join(name)
 }

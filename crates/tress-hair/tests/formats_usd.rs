@@ -210,12 +210,20 @@ fn one_changed_byte_never_aborts_or_hangs_the_reader() {
 
 #[test]
 fn fuzz_findings_are_errors() {
-    // read_usd-1: a token vector claiming 2^60 tokens (openusd allocated it unchecked).
-    let input = std::fs::read(data("fuzz/read_usd-1")).unwrap();
+    // huge-token-vector: a token vector claiming 2^60 tokens (openusd allocated it unchecked).
+    let input = std::fs::read(fuzz_regression("read_usd", "huge-token-vector")).unwrap();
     let ext = ["usda", "usdc", "usdz"][usize::from(input[0] % 3)];
     assert!(read_usd_bytes(&input[1..], ext, &ReadOptions::default()).is_err());
-    // read_usd-2: a token index past the token table; openusd panics, which becomes an error.
-    let input = std::fs::read(data("fuzz/read_usd-2")).unwrap();
+    // token-vector-index: a token index past the token table (openusd panicked).
+    let input = std::fs::read(fuzz_regression("read_usd", "token-vector-index")).unwrap();
     let ext = ["usda", "usdc", "usdz"][usize::from(input[0] % 3)];
     assert!(read_usd_bytes(&input[1..], ext, &ReadOptions::default()).is_err());
+}
+
+/// A committed input of the fuzz target `target` (`fuzz/regressions/TARGET/NAME`).
+fn fuzz_regression(target: &str, name: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fuzz/regressions")
+        .join(target)
+        .join(name)
 }

@@ -31,12 +31,7 @@ fn err(reason: impl std::fmt::Display) -> HairError {
 /// Read a glTF or GLB mesh from memory. `base_dir` is where external buffers (`uri` paths)
 /// are looked up; `None` refuses them.
 pub fn read_gltf(bytes: &[u8], base_dir: Option<&Path>) -> Result<TriMesh, HairError> {
-    // gltf-json 1.4's validation indexes accessors unchecked on some invalid files (found by
-    // fuzzing): its panic becomes an error.
-    let parsed = std::panic::catch_unwind(|| gltf::Gltf::from_slice(bytes));
-    let gltf = parsed
-        .map_err(|_| err("the file's references are out of range (the gltf crate panicked)"))?
-        .map_err(err)?;
+    let gltf = parse(bytes)?;
     let mut buffers = Vec::new();
     for b in gltf.buffers() {
         let data = match b.source() {
@@ -111,6 +106,34 @@ pub fn read_gltf(bytes: &[u8], base_dir: Option<&Path>) -> Result<TriMesh, HairE
         return Err(err("the file has no triangles"));
     }
     Ok(mesh)
+}
+
+/// Parse and validate the document. gltf-json 1.4's validation indexes `accessors` with each
+/// primitive's `POSITION` unchecked (`primitive_validate_hook`, found by fuzzing), so those
+/// indices are checked first; the `catch_unwind` stays as the last line of defence.
+fn parse(bytes: &[u8]) -> Result<gltf::Gltf, HairError> {
+    let gltf::Gltf { document, blob } =
+        gltf::Gltf::from_slice_without_validation(bytes).map_err(err)?;
+    let json = document.into_json();
+    let accessors = json.accessors.len();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            for (semantic, index) in &prim.attributes {
+                if index.value() >= accessors {
+                    return Err(err(format!(
+                        "mesh {m} primitive {p}: {} names accessor {}, but the file has {accessors}",
+                        semantic.to_string(),
+                        index.value()
+                    )));
+                }
+            }
+        }
+    }
+    let validated = crate::panic_guard::quietly(|| gltf::Document::from_json(json));
+    let document = validated
+        .ok_or_else(|| err("the file's references are out of range (the gltf crate panicked)"))?
+        .map_err(err)?;
+    Ok(gltf::Gltf { document, blob })
 }
 
 /// Read a `.gltf` or `.glb` file; errors name the file.

@@ -78,9 +78,7 @@ pub(super) const PRIM_FIELDS: &[&str] = &[
 /// The curves and meshes of the `.usdc` file `bytes` (already checked by `usdc_check`), or
 /// `None` where the stage must read it (see the module docs).
 pub(super) fn read(bytes: &[u8], options: &ReadOptions) -> Option<UsdContents> {
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| read_layer(bytes, options)))
-        .ok()
-        .flatten()
+    crate::panic_guard::quietly(|| read_layer(bytes, options)).flatten()
 }
 
 fn read_layer(bytes: &[u8], options: &ReadOptions) -> Option<UsdContents> {

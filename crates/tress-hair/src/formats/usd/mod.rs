@@ -122,17 +122,12 @@ pub fn read_usd(path: &Path, options: &ReadOptions) -> Result<UsdContents, HairE
     })
 }
 
-/// Run openusd, turning a panic inside it (it has `todo!()`s on some malformed inputs) into an
-/// error.
+/// Run openusd, turning a panic inside it (its reader indexes tables with values from the file
+/// and has `todo!()`s; `usdc_check` refuses what is known to reach them) into an error that
+/// prints nothing else ([`crate::panic_guard`]).
 fn guarded<T>(f: impl FnOnce() -> Result<T, HairError>) -> Result<T, HairError> {
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|panic| {
-        let what = panic
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| panic.downcast_ref::<String>().cloned())
-            .unwrap_or_default();
-        Err(err(format!("openusd could not read the file ({what})")))
-    })
+    crate::panic_guard::quietly(f)
+        .unwrap_or_else(|| Err(err("openusd could not read the file (it panicked)")))
 }
 
 /// [`usdc_check::check`] for binary files (text and packages pass through).
