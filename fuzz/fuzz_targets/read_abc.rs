@@ -3,10 +3,7 @@
 
 #![no_main]
 
-use libfuzzer_sys::fuzz_target;
-use tress_hair::formats::{ReadOptions, read_abc};
-
-fuzz_target!(|data: &[u8]| {
-    let _ = tress_alembic::read(data);
-    let _ = read_abc(data, &ReadOptions { cubic_segments: 2 });
-});
+libfuzzer_sys::fuzz_target!(
+    init: tress_hair_fuzz::abort_on_every_panic(),
+    |data: &[u8]| tress_hair_fuzz::read_abc_check(data)
+);

@@ -3,12 +3,7 @@
 
 #![no_main]
 
-use libfuzzer_sys::fuzz_target;
-use tress_hair::formats::{read_data, write_data};
-
-fuzz_target!(|data: &[u8]| {
-    if let Ok((asset, _)) = read_data(data) {
-        let bytes = write_data(&asset).expect("an asset read from .data can be written");
-        assert_eq!(read_data(&bytes).expect("re-read").0, asset);
-    }
-});
+libfuzzer_sys::fuzz_target!(
+    init: tress_hair_fuzz::abort_on_every_panic(),
+    |data: &[u8]| tress_hair_fuzz::read_data_check(data)
+);

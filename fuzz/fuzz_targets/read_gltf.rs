@@ -3,8 +3,7 @@
 
 #![no_main]
 
-use libfuzzer_sys::fuzz_target;
-
-fuzz_target!(|data: &[u8]| {
-    let _ = tress_hair::formats::gltf::read_gltf(data, None);
-});
+libfuzzer_sys::fuzz_target!(
+    init: tress_hair_fuzz::abort_on_every_panic(),
+    |data: &[u8]| tress_hair_fuzz::read_gltf_check(data)
+);

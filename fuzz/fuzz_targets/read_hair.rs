@@ -3,12 +3,7 @@
 
 #![no_main]
 
-use libfuzzer_sys::fuzz_target;
-use tress_hair::formats::{read_hair, write_hair};
-
-fuzz_target!(|data: &[u8]| {
-    if let Ok(asset) = read_hair(data) {
-        let bytes = write_hair(&asset).expect("an asset read from .hair can be written as .hair");
-        assert_eq!(read_hair(&bytes).expect("re-read"), asset);
-    }
-});
+libfuzzer_sys::fuzz_target!(
+    init: tress_hair_fuzz::abort_on_every_panic(),
+    |data: &[u8]| tress_hair_fuzz::read_hair_check(data)
+);

@@ -4,14 +4,7 @@
 
 #![no_main]
 
-use libfuzzer_sys::fuzz_target;
-use tress_hair::generate::TriMesh;
-use tress_hair::patches::PatchMesh;
-
-fuzz_target!(|data: &[u8]| {
-    if let Ok(cards) = PatchMesh::from_obj(data) {
-        let again = PatchMesh::from_obj(cards.to_obj().as_bytes()).expect("written cards re-read");
-        assert_eq!(again.triangle_count(), cards.triangle_count());
-    }
-    let _ = TriMesh::from_obj(data);
-});
+libfuzzer_sys::fuzz_target!(
+    init: tress_hair_fuzz::abort_on_every_panic(),
+    |data: &[u8]| tress_hair_fuzz::read_obj_check(data)
+);

@@ -4,16 +4,7 @@
 
 #![no_main]
 
-use libfuzzer_sys::fuzz_target;
-use tress_satf::database::Database;
-
-fuzz_target!(|data: &[u8]| {
-    let _ = Database::from_bytes(data);
-    if data.len() >= 8 {
-        let mut fixed = data.to_vec();
-        let body = fixed.len() - 8;
-        let sum = tress_satf::format::fnv1a64(&fixed[..body]);
-        fixed[body..].copy_from_slice(&sum.to_le_bytes());
-        let _ = Database::from_bytes(&fixed);
-    }
-});
+libfuzzer_sys::fuzz_target!(
+    init: tress_hair_fuzz::abort_on_every_panic(),
+    |data: &[u8]| tress_hair_fuzz::read_satfdb_check(data)
+);

@@ -7,24 +7,7 @@
 
 #![no_main]
 
-use libfuzzer_sys::fuzz_target;
-use tress_hair::formats::{parse_tfx, read_tfx, write_tfx};
-
-fn check(data: &[u8]) {
-    let _ = read_tfx(data);
-    if let Ok(file) = parse_tfx(data) {
-        let bytes = write_tfx(&file.guides).expect("guides of a .tfx file have equal strands");
-        assert_eq!(read_tfx(&bytes).expect("re-read"), file.guides);
-    }
-}
-
-fuzz_target!(|data: &[u8]| {
-    check(data);
-    if data.len() >= 4 {
-        for version in [3.0f32, 4.0] {
-            let mut with_version = data.to_vec();
-            with_version[..4].copy_from_slice(&version.to_le_bytes());
-            check(&with_version);
-        }
-    }
-});
+libfuzzer_sys::fuzz_target!(
+    init: tress_hair_fuzz::abort_on_every_panic(),
+    |data: &[u8]| tress_hair_fuzz::read_tfx_check(data)
+);

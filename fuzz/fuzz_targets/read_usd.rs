@@ -3,11 +3,7 @@
 
 #![no_main]
 
-use libfuzzer_sys::fuzz_target;
-use tress_hair::formats::{ReadOptions, read_usd_bytes};
-
-fuzz_target!(|data: &[u8]| {
-    let Some((&pick, file)) = data.split_first() else { return };
-    let ext = ["usda", "usdc", "usdz"][usize::from(pick % 3)];
-    let _ = read_usd_bytes(file, ext, &ReadOptions { cubic_segments: 2 });
-});
+libfuzzer_sys::fuzz_target!(
+    init: tress_hair_fuzz::abort_on_every_panic(),
+    |data: &[u8]| tress_hair_fuzz::read_usd_check(data)
+);
