@@ -52,6 +52,7 @@ pub mod scene_setup;
 mod services;
 pub mod session;
 pub mod shaders;
+pub mod sim;
 mod stats;
 pub mod strands;
 pub mod volume;

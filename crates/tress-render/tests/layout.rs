@@ -375,3 +375,114 @@ fn satf_types_match_wgsl() {
         [position, u, tangent, t, normal, tile]
     );
 }
+
+#[test]
+fn simulation_types_match_wgsl() {
+    let text = shaders::compose("sim/sim_step.wgsl").expect("composes");
+    let m = naga::front::wgsl::parse_str(&text).expect("parses");
+    check!(&m, "Rigid", RigidGpu, [rotation, translation]);
+    check!(
+        &m,
+        "SimParams",
+        SimParams,
+        [
+            h0,
+            h1,
+            delta,
+            gravity,
+            wind_dir,
+            wind,
+            shape,
+            grid_params,
+            grid_origin,
+            grid_dims,
+            sdf_origin,
+            sdf_dims,
+            counts,
+            counts2
+        ]
+    );
+    check!(
+        &m,
+        "SimRest",
+        SimRest,
+        [position, rest_len, global_w, margin, flags, strand]
+    );
+    assert!(
+        std::mem::size_of::<SimParams>() as u64 <= tress_render::sim::UNIFORM_STRIDE,
+        "a substep's uniforms overrun their slot"
+    );
+    let text = shaders::compose("sim/sim_output.wgsl").expect("composes");
+    let m = naga::front::wgsl::parse_str(&text).expect("parses");
+    check!(
+        &m,
+        "SimOutputParams",
+        SimOutputParams,
+        [head_rotation, counts]
+    );
+    check!(
+        &m,
+        "SimFollower",
+        SimFollower,
+        [guides, weights, first, asset_first, _pad0, _pad1]
+    );
+    check!(
+        &m,
+        "SimFollowerVertex",
+        SimFollowerVertex,
+        [offset, follower]
+    );
+    // The output writes the renderers' vertex through its own copy of the struct.
+    check!(
+        &m,
+        "SimOutVertex",
+        StrandVertex,
+        [position, thickness, color, alpha]
+    );
+}
+
+#[test]
+fn simulation_constants_mirror_the_cpu_twin() {
+    let text = shaders::compose("sim/sim_step.wgsl").expect("composes");
+    let m = naga::front::wgsl::parse_str(&text).expect("parses");
+    let constant = |name: &str| -> f64 {
+        let (_, c) = m
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("no constant {name}"));
+        match m.global_expressions[c.init] {
+            naga::Expression::Literal(naga::Literal::F32(v)) => f64::from(v),
+            naga::Expression::Literal(naga::Literal::U32(v)) => f64::from(v),
+            ref other => panic!("{name}: {other:?}"),
+        }
+    };
+    assert_eq!(
+        constant("GRID_WEIGHT_ONE"),
+        f64::from(tress_sim::grid::WEIGHT_ONE)
+    );
+    assert_eq!(
+        constant("GRID_VELOCITY_ONE"),
+        f64::from(tress_sim::grid::VELOCITY_ONE)
+    );
+    assert_eq!(
+        constant("GRID_MAX_CELLS"),
+        f64::from(tress_sim::grid::MAX_CELLS)
+    );
+    assert_eq!(
+        constant("GRID_MAX_PUSH_CELLS"),
+        f64::from(tress_sim::grid::MAX_PUSH_CELLS)
+    );
+    assert_eq!(
+        constant("SIM_FINAL_ROUNDS"),
+        f64::from(tress_sim::step::FINAL_ROUNDS)
+    );
+    assert_eq!(
+        constant("SIM_PROJECTION_STEPS"),
+        f64::from(tress_sim::step::PROJECTION_STEPS)
+    );
+    assert_eq!(
+        constant("SIM_MAX_VERTICES"),
+        tress_render::sim::MAX_SIM_VERTICES as f64
+    );
+}

@@ -64,6 +64,22 @@ fn entry_modules_have_their_entry_points() {
             ],
         ),
         ("patches/patch_head.wgsl", &["vs_main", "fs_main"]),
+        (
+            "sim/sim_step.wgsl",
+            &[
+                "shock",
+                "integrate",
+                "grid_clear",
+                "grid_splat",
+                "grid_apply",
+                "constraints",
+                "friction",
+            ],
+        ),
+        (
+            "sim/sim_output.wgsl",
+            &["write_frames", "write_guides", "write_followers"],
+        ),
     ];
     assert_eq!(expect.len(), shaders::ENTRY_MODULES.len());
     for (path, entries) in expect {

@@ -90,9 +90,10 @@ impl HairGrid {
     pub fn splat(&mut self, p: Vec3, velocity_cells: Vec3) {
         let v = velocity_cells.clamp(Vec3::splat(-MAX_CELLS), Vec3::splat(MAX_CELLS));
         for (i, w) in corners(self.to_grid(p), self.dims) {
-            self.density[i] += (w * WEIGHT_ONE).round() as i32;
+            // Ties to even, as WGSL's round.
+            self.density[i] += (w * WEIGHT_ONE).round_ties_even() as i32;
             for a in 0..3 {
-                self.momentum[3 * i + a] += (w * v[a] * VELOCITY_ONE).round() as i32;
+                self.momentum[3 * i + a] += (w * v[a] * VELOCITY_ONE).round_ties_even() as i32;
             }
         }
     }

@@ -50,7 +50,7 @@ pub mod wind;
 
 pub use motion::{Keyframe, MotionSpec, Preset, Rigid};
 pub use settings::{Capsule, FollowMode, SimSettings, Sphere, Wind};
-pub use sim::{GuideChoice, Simulation, StepReport};
+pub use sim::{GuideChoice, SimLayout, Simulation, StepReport, Substep};
 
 /// What can go wrong setting up a simulation.
 #[derive(Debug, thiserror::Error)]

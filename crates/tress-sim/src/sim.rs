@@ -7,7 +7,8 @@ use tress_hair::generate::TriMesh;
 
 use crate::SimError;
 use crate::collide::{Colliders, Sdf};
-use crate::follow::{Binding, bind, sample_at, segment_frames};
+use crate::follow::Binding;
+use crate::follow::{bind, sample_at, segment_frames};
 use crate::grid::HairGrid;
 use crate::motion::Rigid;
 use crate::settings::SimSettings;
@@ -53,11 +54,57 @@ pub struct Simulation {
     asset_offsets: Vec<u32>,
 }
 
+/// A simulation's arrays, for a GPU twin to upload (see the fields of [`Simulation`]).
+#[derive(Clone, Debug)]
+pub struct SimLayout<'a> {
+    /// Guide vertex offsets (CSR, guides + 1 entries).
+    pub offsets: &'a [u32],
+    /// Rest positions, head space.
+    pub rest: &'a [Vec3],
+    /// Rest length of the segment ending at each vertex.
+    pub rest_len: &'a [f32],
+    /// Global shape weight of each vertex.
+    pub global_w: &'a [f32],
+    /// Collision margin of each vertex.
+    pub margin: &'a [f32],
+    /// Positions and previous positions now.
+    pub x: &'a [Vec3],
+    /// Previous positions now.
+    pub x_prev: &'a [Vec3],
+    /// The first asset vertex of each guide.
+    pub guide_first: Vec<u32>,
+    /// Follower vertex offsets (CSR), bindings and rest offsets.
+    pub follower_offsets: &'a [u32],
+    /// Each follower's guides and weights.
+    pub bindings: &'a [Binding],
+    /// Each follower vertex's rest offset from its guides' blend, head space.
+    pub follower_rest: &'a [Vec3],
+    /// The first asset vertex of each follower.
+    pub follower_first: Vec<u32>,
+    /// The hair–hair grid (its placement and rest weights).
+    pub grid: &'a HairGrid,
+}
+
 /// What a step did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StepReport {
     /// The head moved further than `teleport_distance`: the hair was moved with it.
     pub teleported: bool,
+}
+
+/// One substep's head motion and time (see [`Simulation::substeps_of`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Substep {
+    /// The head at its start.
+    pub h0: Rigid,
+    /// The head at its end.
+    pub h1: Rigid,
+    /// `h1` after the inverse of `h0`.
+    pub delta: Rigid,
+    /// The shock propagation weight.
+    pub shock: f32,
+    /// Seconds at its end (the wind's time).
+    pub time: f32,
 }
 
 fn strand_offsets(asset: &HairAsset, strands: impl Iterator<Item = usize>) -> Vec<u32> {
@@ -263,6 +310,73 @@ impl Simulation {
         (&self.x, &self.offsets, &self.rest_len)
     }
 
+    /// The arrays a GPU twin uploads.
+    pub fn layout(&self) -> SimLayout<'_> {
+        let (mut guide_first, mut follower_first) = (
+            vec![0; self.offsets.len() - 1],
+            vec![0; self.bindings.len()],
+        );
+        for (s, &(is_guide, k)) in self.strands.iter().enumerate() {
+            let first = self.asset_offsets[s];
+            if is_guide {
+                guide_first[k as usize] = first;
+            } else {
+                follower_first[k as usize] = first;
+            }
+        }
+        SimLayout {
+            offsets: &self.offsets,
+            rest: &self.rest,
+            rest_len: &self.rest_len,
+            global_w: &self.global_w,
+            margin: &self.margin,
+            x: &self.x,
+            x_prev: &self.x_prev,
+            guide_first,
+            follower_offsets: &self.follower_offsets,
+            bindings: &self.bindings,
+            follower_rest: &self.follower_rest,
+            follower_first,
+            grid: &self.grid,
+        }
+    }
+
+    /// The per-substep values of the step that moves the head from where it is to `head`:
+    /// what the GPU twin puts in its uniforms. Also returns whether the step teleports.
+    pub fn substeps_of(&self, head: Rigid) -> (Vec<Substep>, bool) {
+        let s = &self.settings;
+        let teleport = (head.translation - self.head.translation).length() > s.teleport_distance;
+        let from = if teleport { head } else { self.head };
+        let dt = s.substep_dt();
+        let t0 = self.time() as f32;
+        let subs = (0..s.substeps)
+            .map(|sub| {
+                let a = sub as f32 / s.substeps as f32;
+                let b = (sub + 1) as f32 / s.substeps as f32;
+                let (h0, h1) = (Rigid::lerp(&from, &head, a), Rigid::lerp(&from, &head, b));
+                let delta = h1.then(&h0.inverse());
+                let omega = delta.rotation.angle_between(Quat::IDENTITY) / dt;
+                let shock =
+                    s.shock * ((omega - s.shock_threshold) / s.shock_threshold).clamp(0.0, 1.0);
+                Substep {
+                    h0,
+                    h1,
+                    delta,
+                    shock,
+                    time: t0 + b / s.rate_hz,
+                }
+            })
+            .collect();
+        (subs, teleport)
+    }
+
+    /// Record a step taken elsewhere (by a GPU twin): the head and the step count advance as
+    /// [`Simulation::step`] would advance them, the positions do not.
+    pub fn advance_clock(&mut self, head: Rigid) {
+        self.head = head;
+        self.steps += 1;
+    }
+
     /// The colliders (head space).
     pub fn colliders(&self) -> &Colliders {
         &self.colliders
@@ -331,22 +445,28 @@ impl Simulation {
             }
             r
         };
-        // Integrate.
+        // Shock propagation, then integration from the positions as they were (the GPU runs a
+        // vertex a thread: the tangent reads the parent's position before anything moved it).
         let (x, xp) = (&mut self.x, &mut self.x_prev);
+        if shock > 0.0 {
+            for i in 0..x.len() {
+                if !roots[i] {
+                    x[i] = x[i].lerp(delta.apply(x[i]), shock);
+                    xp[i] = xp[i].lerp(delta.apply(xp[i]), shock);
+                }
+            }
+        }
+        let cur = x.clone();
         for i in 0..x.len() {
             if roots[i] {
-                xp[i] = x[i];
+                xp[i] = cur[i];
                 x[i] = h1.apply(self.rest[i]);
                 continue;
             }
-            if shock > 0.0 {
-                x[i] = x[i].lerp(delta.apply(x[i]), shock);
-                xp[i] = xp[i].lerp(delta.apply(xp[i]), shock);
-            }
-            let tangent = (x[i] - x[i - 1]).normalize_or_zero();
-            let air = air_velocity(&s.wind, x[i], time);
-            let accel = s.gravity + drag(&s.wind, air, (x[i] - xp[i]) / dt, tangent);
-            (x[i], xp[i]) = integrate(x[i], xp[i], decay, accel, dt);
+            let tangent = (cur[i] - cur[i - 1]).normalize_or_zero();
+            let air = air_velocity(&s.wind, cur[i], time);
+            let accel = s.gravity + drag(&s.wind, air, (cur[i] - xp[i]) / dt, tangent);
+            (x[i], xp[i]) = integrate(cur[i], xp[i], decay, accel, dt);
         }
         // Hair–hair interaction.
         if s.hair_friction > 0.0 || s.hair_volume > 0.0 {

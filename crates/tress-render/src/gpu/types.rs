@@ -5,6 +5,9 @@
 
 use bytemuck::{Pod, Zeroable};
 
+mod sim;
+pub use sim::*;
+
 /// A column-major 4x4 matrix as WGSL `mat4x4<f32>`.
 pub type Mat4Gpu = [[f32; 4]; 4];
 

@@ -54,6 +54,12 @@ pub const SOURCES: &[(&str, &str)] = &[
     ),
     ("common/strand.wgsl", include_str!("common/strand.wgsl")),
     ("common/volume.wgsl", include_str!("common/volume.wgsl")),
+    ("common/sim.wgsl", include_str!("common/sim.wgsl")),
+    ("sim/sim_step.wgsl", include_str!("../sim/sim_step.wgsl")),
+    (
+        "sim/sim_output.wgsl",
+        include_str!("../sim/sim_output.wgsl"),
+    ),
     ("common/head.wgsl", include_str!("common/head.wgsl")),
     (
         "common/fullscreen.wgsl",
@@ -178,6 +184,8 @@ pub const ENTRY_MODULES: &[&str] = &[
     "patches/z_prime.wgsl",
     "patches/patch_shade.wgsl",
     "patches/patch_head.wgsl",
+    "sim/sim_step.wgsl",
+    "sim/sim_output.wgsl",
 ];
 
 /// The embedded source of the file at `path`, if the crate has it.

@@ -112,7 +112,10 @@ impl StrandGeometry {
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some("strands/geometry/vertices"),
                     contents: bytemuck::cast_slice(&vertices),
-                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                    // COPY_SRC: a simulation's cache reads the simulated positions back.
+                    usage: wgpu::BufferUsages::STORAGE
+                        | wgpu::BufferUsages::COPY_DST
+                        | wgpu::BufferUsages::COPY_SRC,
                 });
             let s = ctx
                 .device
@@ -181,6 +184,12 @@ impl StrandGeometry {
         let b = asset.bounds();
         self.bounds = (b.center(), b.size().length() * 0.5);
         Ok(())
+    }
+
+    /// The vertex buffer: one [`crate::gpu::types::StrandVertex`] a vertex, storage usage (a
+    /// simulation writes positions into it, [`crate::sim::GpuSimulation::write_positions`]).
+    pub fn vertex_buffer(&self) -> &wgpu::Buffer {
+        &self.vertices
     }
 
     /// Bytes of GPU buffers (vertices and segments).

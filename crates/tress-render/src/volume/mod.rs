@@ -172,6 +172,7 @@ pub use opacity::Opacity;
 pub use raymarch::Raymarch;
 pub use tress_shading::VoxelizeMode;
 pub use volume_bounds::VolumeBounds;
+pub(crate) use volume_bounds::dispatch_2d;
 pub use volume_resolve::{VOLUME_FORMAT, VolumeResolve};
 pub use voxelize::Voxelize;
 pub use voxelizer::{VolumeReadback, Voxelizer};
