@@ -472,6 +472,10 @@ pub struct HeadSpec {
     /// `"ellipsoid"`; default: the first generated hair entry's ([`tress_hair::generate::shape_for`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shape: Option<String>,
+    /// `[head.motion]`: how the head moves when the hair is simulated (a preset or keyframes;
+    /// see [`tress_sim::MotionSpec`]); none: it stays still.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub motion: Option<tress_sim::MotionSpec>,
 }
 
 impl HeadSpec {
@@ -497,6 +501,9 @@ impl HeadSpec {
                 "head.radii",
                 format!("must be finite and positive, got {r}"),
             ));
+        }
+        if let Some(m) = &self.motion {
+            m.validate().map_err(crate::scene::sim_error)?;
         }
         Ok(())
     }

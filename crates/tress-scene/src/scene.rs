@@ -56,6 +56,10 @@ pub struct Scene {
     /// `[satf]`: settings of the SATF technique.
     #[serde(skip_serializing_if = "toml::Table::is_empty")]
     pub satf: toml::Table,
+    /// `[simulation]`: settings of the strand simulation, read with
+    /// [`Scene::simulation_settings`].
+    #[serde(skip_serializing_if = "toml::Table::is_empty")]
+    pub simulation: toml::Table,
     /// Folder that relative paths (hair files, head OBJ) are resolved against: the scene file's
     /// folder. Not part of the file.
     #[serde(skip)]
@@ -82,6 +86,7 @@ impl Default for Scene {
             hybrid: toml::Table::new(),
             patches: toml::Table::new(),
             satf: toml::Table::new(),
+            simulation: toml::Table::new(),
             base_dir: PathBuf::new(),
             origin: Origin::default(),
         }
@@ -225,7 +230,29 @@ impl Scene {
             h.validate(&format!("hair.{i}"))?;
         }
         self.head.validate()?;
+        if !self.simulation.is_empty() {
+            self.simulation_settings()?;
+        }
         self.output.validate()
+    }
+
+    /// `[simulation]` with every absent key at its default, checked: a misspelt key is an error
+    /// naming it (and its line, when it came from the scene file), a value out of range an
+    /// error naming its dotted key.
+    pub fn simulation_settings(&self) -> Result<tress_sim::SimSettings, SceneError> {
+        let settings: tress_sim::SimSettings =
+            match toml::Value::Table(self.simulation.clone()).try_into() {
+                Ok(s) => s,
+                Err(plain) => {
+                    return Err(self
+                        .locate_table_error::<tress_sim::SimSettings>("simulation")
+                        .unwrap_or_else(|| {
+                            SceneError::invalid("simulation", one_line(&plain.to_string()))
+                        }));
+                }
+            };
+        settings.validate().map_err(sim_error)?;
+        Ok(settings)
     }
 
     /// The settings table of a technique (one of [`crate::TECHNIQUES`]), `None` for an unknown name.
@@ -287,10 +314,14 @@ impl Scene {
         }
     }
 
-    /// Deserialize the technique's table as written in the source text, to find the line of an
-    /// error. `None` when there is no text, no such table in it, or no error in it (the error came
-    /// from an override or a change in code).
     fn locate_technique_error<T: DeserializeOwned>(&self, name: &str) -> Option<SceneError> {
+        self.locate_table_error::<T>(name)
+    }
+
+    /// Deserialize the top-level table `name` as written in the source text, to find the line of
+    /// an error. `None` when there is no text, no such table in it, or no error in it (the error
+    /// came from an override or a change in code).
+    fn locate_table_error<T: DeserializeOwned>(&self, name: &str) -> Option<SceneError> {
         let text = self.origin.text.as_deref()?;
         let root = DeTable::parse(text).ok()?;
         let (_, value) = root
@@ -466,5 +497,13 @@ impl LoadError {
             }
             LoadError::Scene(e) => e,
         }
+    }
+}
+
+/// A simulation setting's error as a scene error naming its key.
+pub(crate) fn sim_error(e: tress_sim::SimError) -> SceneError {
+    match e {
+        tress_sim::SimError::Setting { key, reason } => SceneError::invalid(key, reason),
+        other => SceneError::invalid("simulation", other.to_string()),
     }
 }
