@@ -11,9 +11,12 @@ use tress_hair::formats::{
     write_hair, write_tfx,
 };
 
+/// What a target runs on one input; it panics when a check fails.
+pub type Check = fn(&[u8]);
+
 /// Every target: its name (its `fuzz_targets/NAME.rs`, `seeds/NAME/` and `regressions/NAME/`)
 /// and its check.
-pub const TARGETS: &[(&str, fn(&[u8]))] = &[
+pub const TARGETS: &[(&str, Check)] = &[
     ("read_abc", read_abc_check),
     ("read_ct2hair", read_ct2hair_check),
     ("read_data", read_data_check),
