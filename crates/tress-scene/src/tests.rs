@@ -602,3 +602,31 @@ fn every_generated_character_gets_its_own_head() {
     let obj = parse(&format!("{text}[head]\nobj = \"head.obj\"\n")).unwrap();
     assert!(obj.generated_heads().is_empty());
 }
+
+/// The `[simulation]` and `[simulation.wind]` block of `doc/defaults.toml`, uncommented, is
+/// exactly `SimSettings::default()`: the documented defaults cannot drift from the code's.
+#[test]
+fn documented_simulation_defaults_are_the_codes() {
+    let doc = include_str!("../doc/defaults.toml");
+    let start = doc.find("# [simulation]").expect("a [simulation] block");
+    let text: String = doc[start..]
+        .lines()
+        .map_while(|l| l.strip_prefix("# "))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let table: toml::Table = text.parse().expect("the block parses");
+    let settings: tress_sim::SimSettings =
+        toml::Value::Table(table["simulation"].as_table().unwrap().clone())
+            .try_into()
+            .expect("the block is valid settings");
+    assert_eq!(settings, tress_sim::SimSettings::default());
+    // Every key of the settings is documented (a table of defaults serializes every key).
+    let all = toml::Value::try_from(tress_sim::SimSettings::default()).unwrap();
+    let documented = table["simulation"].as_table().unwrap();
+    for key in all.as_table().unwrap().keys() {
+        assert!(
+            documented.contains_key(key),
+            "simulation.{key} is not in doc/defaults.toml"
+        );
+    }
+}

@@ -1,7 +1,8 @@
 //! Hair–hair interaction on a grid (Petrovic et al. 2005): every simulated vertex splats its
 //! weight and velocity onto the grid's nodes; friction pulls each vertex's velocity towards the
-//! hair's mean velocity around it, and a push down the gradient of the density above its rest
-//! value keeps the hair's volume.
+//! hair's mean velocity around it, and a push down the gradient of the density above the rest
+//! pose's densest node keeps the hair's volume: hair may move anywhere, but never pack tighter
+//! than it was packed at rest (so nothing is pushed at rest).
 //!
 //! The grid lives in the head's space (it moves with the head), over the rest hair's bounds
 //! padded by the longest strand, `hair_grid` nodes along its longest axis. Sums are fixed-point
@@ -33,9 +34,8 @@ pub struct HairGrid {
     pub density: Vec<i32>,
     /// Weighted velocity a node, x y z interleaved (fixed point).
     pub momentum: Vec<i32>,
-    /// The rest pose's weights.
-    pub rest_density: Vec<i32>,
-    /// The rest pose's largest weight a node (at least [`WEIGHT_ONE`]), the volume push's scale.
+    /// The rest pose's largest weight a node (at least [`WEIGHT_ONE`]): denser is excess, and
+    /// the excess is measured in it.
     pub rest_peak: f32,
 }
 
@@ -70,7 +70,6 @@ impl HairGrid {
             dims,
             density: vec![0; n],
             momentum: vec![0; 3 * n],
-            rest_density: vec![0; n],
             rest_peak: WEIGHT_ONE,
         }
     }
@@ -98,11 +97,10 @@ impl HairGrid {
         }
     }
 
-    /// Keep the current sums as the rest pose's.
+    /// Take the current sums as the rest pose's (their densest node).
     pub fn keep_as_rest(&mut self) {
-        self.rest_density.copy_from_slice(&self.density);
         self.rest_peak = self
-            .rest_density
+            .density
             .iter()
             .copied()
             .max()
@@ -126,13 +124,13 @@ impl HairGrid {
         m / rho * (WEIGHT_ONE / VELOCITY_ONE)
     }
 
-    /// The excess density above rest at node `c`, relative to the rest peak.
+    /// The density above the rest peak at node `c`, relative to the rest peak.
     fn excess(&self, c: IVec3) -> f32 {
         let c = c
             .clamp(IVec3::ZERO, self.dims.as_ivec3() - IVec3::ONE)
             .as_uvec3();
         let i = (c.x + self.dims.x * (c.y + self.dims.y * c.z)) as usize;
-        (self.density[i] - self.rest_density[i]).max(0) as f32 / self.rest_peak
+        (self.density[i] as f32 - self.rest_peak).max(0.0) / self.rest_peak
     }
 
     /// The gradient (per cell) of the excess density at `p`: central differences of the nodes
@@ -185,11 +183,12 @@ mod tests {
         let v = a.velocity(Vec3::new(4.0, 4.5, 4.0));
         assert!((v - Vec3::new(0.5, -0.25, 0.125)).length() < 2e-3, "{v}");
         assert_eq!(a.velocity(Vec3::splat(9.5)), Vec3::ZERO);
-        // At rest there is no excess; more hair in a node pushes away from it.
+        // At rest there is no excess; hair packed tighter than at rest pushes away.
         a.keep_as_rest();
         assert_eq!(a.excess_gradient(Vec3::new(4.0, 4.5, 4.0)), Vec3::ZERO);
-        a.splat(Vec3::new(5.0, 5.0, 5.0), Vec3::ZERO);
-        a.splat(Vec3::new(5.0, 5.0, 5.0), Vec3::ZERO);
+        for _ in 0..200 {
+            a.splat(Vec3::new(5.0, 5.0, 5.0), Vec3::ZERO);
+        }
         let g = a.excess_gradient(Vec3::new(5.6, 5.0, 5.0));
         assert!(g.x < 0.0, "{g}");
     }

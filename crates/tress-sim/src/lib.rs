@@ -19,8 +19,8 @@
 //!    as `e^(−damping·t)` at any rate), gravity and the wind's drag across the strand ([`wind`]).
 //! 3. **Hair–hair interaction** ([`grid`]): the vertices' weights and velocities on a grid in
 //!    fixed point (integer sums, order-independent); friction pulls each vertex's velocity
-//!    towards the mean around it, and a push down the gradient of the density above its rest
-//!    value keeps the hair's volume (nothing happens at rest).
+//!    towards the mean around it, and a push down the gradient of the density above the rest
+//!    pose's densest node keeps the hair's volume (nothing happens at rest).
 //! 4. **Constraints** ([`step::solve_strand`]), Gauss–Seidel along each strand from the root,
 //!    `iterations` times: inextensibility (position-based distance constraints, split by inverse
 //!    mass), local shape (each segment towards its rest direction in the frame of the segment

@@ -1,5 +1,6 @@
-//! `tress render --frames N --animate sway`: a procedural sway of the hair, voxelized again
-//! every frame, written as numbered images.
+//! `tress render --frames N --animate sway|simulate`: a procedural sway of the hair, or the
+//! hair simulated with the head moving as the scene's `[head.motion]` says (`[simulation]`'s
+//! settings), voxelized again every frame, written as numbered images.
 
 use std::path::{Path, PathBuf};
 
@@ -55,6 +56,26 @@ pub(crate) fn numbered(output: &Path, i: u32) -> PathBuf {
 struct SequenceReport {
     technique: String,
     frames: Vec<Report>,
+    /// With `--animate simulate`: each frame's simulation.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    simulation: Vec<SimulationReport>,
+}
+
+/// One frame's simulation in `--json`.
+#[derive(Serialize)]
+struct SimulationReport {
+    /// Simulated seconds at the frame.
+    time: f64,
+    /// Steps run for the frame.
+    steps: u64,
+    /// Guides simulated and strands drawn (followers rebuilt from them).
+    guides: usize,
+    strands: usize,
+    /// Milliseconds from recording the frame's steps to the GPU finishing them and writing the
+    /// hair into the vertex buffers.
+    wall_ms: Option<f64>,
+    /// GPU memory of the simulation.
+    bytes: u64,
 }
 
 /// What a sequence renders: `--frames N` and `--animate MOTION`.
@@ -78,8 +99,8 @@ impl Sequence<'_> {
             bail!("--frames must be in 1..=100000, got {frames}");
         }
         match self.animate {
-            None | Some("sway") => {}
-            Some(other) => bail!("unknown --animate `{other}` (expected sway)"),
+            None | Some("sway") | Some("simulate") => {}
+            Some(other) => bail!("unknown --animate `{other}` (expected sway or simulate)"),
         }
         if !technique.draws_strands() {
             bail!("--frames renders the strands, volume and hybrid techniques, not `{technique}`");
@@ -99,14 +120,35 @@ pub(crate) fn run(
     let size = [session.scene().output.width, session.scene().output.height];
     let targets = OffscreenTargets::new(ctx, size, COLOR_FORMAT)?;
     let camera = session.camera(size);
-    // The hair at rest (a copy only when it moves).
+    let simulate = seq.animate == Some("simulate");
+    // The hair at rest (a copy only when it sways).
     let rest = seq
         .animate
+        .filter(|a| *a == "sway")
         .and(session.prepared().hair().map(std::borrow::Cow::into_owned));
+    if simulate {
+        let settings = session.scene().simulation_settings()?;
+        let motion = session.scene().head.motion.clone().unwrap_or_default();
+        session.start_simulation(ctx, settings, motion)?;
+    }
     let mut reports = Vec::new();
+    let mut sim_reports = Vec::new();
     for i in 0..frames {
         if let Some(asset) = &rest {
             session.update_hair_positions(ctx, &sway(asset, i as f32 / FPS))?;
+        }
+        if simulate {
+            let f = session.simulate_to(ctx, f64::from(i) / f64::from(FPS), true)?;
+            let sim = session.simulation().context("the simulation stopped")?;
+            let (guides, strands) = sim.counts();
+            sim_reports.push(SimulationReport {
+                time: f.time,
+                steps: f.steps,
+                guides,
+                strands,
+                wall_ms: f.wall_ms,
+                bytes: sim.bytes(),
+            });
         }
         let frame = session.render(ctx, &targets.targets(), &camera, None)?;
         let image = read_texture(ctx, &targets.color).context("reading the frame back")?;
@@ -129,6 +171,7 @@ pub(crate) fn run(
         let seq = SequenceReport {
             technique: session.technique().to_string(),
             frames: reports,
+            simulation: sim_reports,
         };
         println!("{}", serde_json::to_string(&seq)?);
     }

@@ -42,8 +42,9 @@ pub(crate) struct Args {
     /// `--animate`; strands, volume and hybrid techniques).
     #[arg(long, value_name = "N")]
     frames: Option<u32>,
-    /// Move the hair over the sequence: `sway` (a procedural pendulum sway; the volume is
-    /// voxelized again every frame).
+    /// Move the hair over the sequence: `sway` (a procedural pendulum sway) or `simulate` (the
+    /// strand simulation on the GPU, `[simulation]`, with the head moving as `[head.motion]`
+    /// says; frames 1/24 s apart); the volume is voxelized again every frame.
     #[arg(long, value_name = "MOTION")]
     animate: Option<String>,
     /// Write the exact sorted composite of the strands instead of the OIT's (a reference for
@@ -100,12 +101,14 @@ pub(crate) fn run(args: Args) -> Result<()> {
         args.height,
         &sets,
     )?;
-    let seq =
-        (args.frames.is_some() || args.animate.is_some()).then_some(super::animate::Sequence {
-            frames: args.frames,
-            animate: args.animate.as_deref(),
-            json: args.json,
-        });
+    // A scene whose `[simulation]` is enabled simulates a sequence without `--animate`.
+    let simulated = args.frames.is_some() && scene.simulation_settings()?.enabled;
+    let animate = args.animate.as_deref().or(simulated.then_some("simulate"));
+    let seq = (args.frames.is_some() || animate.is_some()).then_some(super::animate::Sequence {
+        frames: args.frames,
+        animate,
+        json: args.json,
+    });
     if let Some(seq) = &seq {
         seq.check(scene.technique.parse()?)?;
     }

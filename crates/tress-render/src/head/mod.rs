@@ -78,6 +78,34 @@ impl HeadGeometry {
         pass.draw_indexed(0..self.index_count, 0, 0..1);
     }
 
+    /// Replace the vertices with `mesh`'s, which must have the same vertices and triangles (the
+    /// head moved: its positions and normals changed, not its topology).
+    pub fn update_mesh(&mut self, ctx: &GpuContext, mesh: &TriMesh) -> Result<(), RenderError> {
+        let verts: Vec<HeadVertex> = mesh
+            .positions
+            .iter()
+            .zip(&mesh.normals)
+            .map(|(p, n)| HeadVertex {
+                position: p.to_array(),
+                normal: n.to_array(),
+            })
+            .collect();
+        let bytes = std::mem::size_of_val(verts.as_slice()) as u64;
+        if bytes != self.vertices.size() || mesh.indices.len() as u32 != self.index_count {
+            return Err(RenderError::Invalid(format!(
+                "update_mesh: the mesh has {} vertices and {} indices, the head {} and {}",
+                mesh.positions.len(),
+                mesh.indices.len(),
+                self.vertices.size() / std::mem::size_of::<HeadVertex>() as u64,
+                self.index_count
+            )));
+        }
+        ctx.queue
+            .write_buffer(&self.vertices, 0, bytemuck::cast_slice(&verts));
+        self.bounds = mesh.bounding_sphere();
+        Ok(())
+    }
+
     /// Validate and upload a mesh.
     pub fn new(ctx: &GpuContext, mesh: &TriMesh) -> Result<Self, RenderError> {
         validate(mesh)?;
@@ -104,7 +132,8 @@ impl HeadGeometry {
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some("head/geometry/vertices"),
                     contents: bytemuck::cast_slice(&verts),
-                    usage: wgpu::BufferUsages::VERTEX,
+                    // COPY_DST: a moving head is uploaded again (`update_mesh`).
+                    usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
                 }),
             indices: ctx
                 .device

@@ -34,6 +34,7 @@
 
 mod inputs;
 mod memory;
+mod simulation;
 pub(crate) mod technique;
 
 use std::time::Instant;
@@ -47,6 +48,7 @@ use crate::hybrid::StrandTechnique;
 use crate::patches::PatchTechnique;
 use crate::satf::SatfTechnique;
 pub use memory::Memory;
+pub use simulation::{SessionSimulation, SimulationFrame};
 use technique::{SharedFrame, Technique, TechniqueFrame};
 
 use crate::patches::scene::{PatchScene, patch_settings};
@@ -156,6 +158,8 @@ pub struct Session {
     /// The hair and head were given by the application ([`Session::with_hair`]), not loaded
     /// from the scene.
     given: bool,
+    /// The hair's simulation, when one runs ([`Session::start_simulation`]).
+    simulation: Option<SessionSimulation>,
 }
 
 impl std::fmt::Debug for Session {
@@ -286,6 +290,7 @@ impl Session {
             readback: options.readback,
             hair_visible: true,
             given,
+            simulation: None,
         };
         session.prepare(ctx)?;
         // Cards without hair (an OBJ) are framed on the cards.

@@ -21,7 +21,6 @@ pub(crate) struct SimBuffers {
     pub(crate) offsets: wgpu::Buffer,
     /// 4 i32 a node.
     pub(crate) grid: wgpu::Buffer,
-    pub(crate) grid_rest: wgpu::Buffer,
     pub(crate) sdf: wgpu::Buffer,
     pub(crate) shapes: wgpu::Buffer,
     pub(crate) output_uniform: wgpu::Buffer,
@@ -224,12 +223,6 @@ impl SimBuffers {
                 none,
             ),
             grid: storage(ctx, "sim/grid/sums", bytemuck::cast_slice(&grid_zero), none),
-            grid_rest: storage(
-                ctx,
-                "sim/grid/rest",
-                bytemuck::cast_slice(&grid.rest_density),
-                none,
-            ),
             sdf: storage(
                 ctx,
                 "sim/colliders/sdf",
@@ -278,7 +271,6 @@ impl SimBuffers {
             &this.rest,
             &this.offsets,
             &this.grid,
-            &this.grid_rest,
             &this.sdf,
             &this.shapes,
             &this.frames,

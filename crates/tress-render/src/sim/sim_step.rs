@@ -55,7 +55,7 @@ impl SimStep {
             let grid_layout = bind_group_layout(
                 ctx,
                 "sim/step/grid-layout",
-                &[storage(1, c, false), storage(2, c, true)],
+                &[storage(1, c, false)],
             );
             let collider_layout = bind_group_layout(
                 ctx,
@@ -102,7 +102,7 @@ impl SimStep {
             let grid = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("sim/step/grid"),
                 layout: &grid_layout,
-                entries: &[buffer(1, &b.grid), buffer(2, &b.grid_rest)],
+                entries: &[buffer(1, &b.grid)],
             });
             let colliders = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("sim/step/colliders"),

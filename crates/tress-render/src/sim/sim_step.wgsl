@@ -68,10 +68,8 @@ fn integrate(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgrou
     next[i] = vec4<f32>(x + v + accel * (dt * dt), 0.0);
 }
 
-// Group 1 of the grid passes: 4 i32 a node (weight, then the weighted velocity's x y z) and the
-// rest pose's weights.
+// Group 1 of the grid passes: 4 i32 a node (weight, then the weighted velocity's x y z).
 @group(1) @binding(1) var<storage, read_write> grid: array<atomic<i32>>;
-@group(1) @binding(2) var<storage, read> grid_rest: array<i32>;
 
 fn grid_dims() -> vec3<u32> {
     return sim.grid_dims.xyz;
@@ -136,7 +134,8 @@ fn grid_excess(c_in: vec3<i32>) -> f32 {
     let dims = vec3<i32>(grid_dims());
     let c = clamp(c_in, vec3<i32>(0), dims - vec3<i32>(1));
     let n = u32(c.x + dims.x * (c.y + dims.y * c.z));
-    return f32(max(atomicLoad(&grid[4u * n]) - grid_rest[n], 0)) / sim.grid_params.y;
+    // tress_sim::grid::HairGrid::excess: denser than the rest pose's densest node.
+    return max(f32(atomicLoad(&grid[4u * n])) - sim.grid_params.y, 0.0) / sim.grid_params.y;
 }
 
 @compute @workgroup_size(64)
