@@ -3,7 +3,11 @@
 //! The application creates the instance, adapter, device, and the color and depth textures
 //! itself, wraps the device in a `GpuContext` (which only checks capabilities), gives its own
 //! hair and head to a `Session` (`Session::with_hair`, the one frame driver every front end
-//! uses) and renders into views of its own textures. Writes `embed.png` (or the path given).
+//! uses) and renders into views of its own textures. Then it simulates the hair while turning
+//! the head with its own animation (`Session::simulate_to_with`: the application says where the
+//! head is; the simulation runs at its fixed rate on the GPU and the frame draws the result) and
+//! renders again. Writes `embed.png` and `embed-moved.png` (or the path given and its `-moved`
+//! sibling).
 //!
 //! ```text
 //! cargo run -p tress-render --example embed -- out.png
@@ -136,5 +140,31 @@ fn main() -> anyhow::Result<()> {
     }
     tress_render::read_texture(&ctx, &color)?.save_png(&out)?;
     println!("wrote {out}");
+
+    // ---- the hair simulated, the head turned by the application's own animation
+    let settings = tress_sim::SimSettings::default();
+    session.start_simulation(&ctx, settings, tress_sim::MotionSpec::default())?;
+    // The application's head: a turn about the vertical axis through the sphere's centre.
+    let head = |_character: usize, t: f32| {
+        tress_sim::Rigid::about(
+            Vec3::ZERO,
+            glam::Quat::from_rotation_y(0.8 * (2.0 * t).sin()),
+            Vec3::ZERO,
+        )
+    };
+    // Its frames: 30 of them at 30 Hz (the simulation steps at 60 Hz whatever the display does).
+    for frame in 1..=30 {
+        let t = f64::from(frame) / 30.0;
+        session.simulate_to_with(&ctx, t, false, head)?;
+        session.render(&ctx, &targets, &camera, Some(&lights))?;
+    }
+    let moved = out.replace(".png", "-moved.png");
+    tress_render::read_texture(&ctx, &color)?.save_png(&moved)?;
+    let sim = session.simulation().context("simulating")?;
+    let (guides, strands) = sim.counts();
+    println!(
+        "wrote {moved} ({guides} guides of {strands} strands simulated for {:.1} s)",
+        sim.time()
+    );
     Ok(())
 }

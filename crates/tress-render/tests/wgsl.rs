@@ -78,7 +78,12 @@ fn entry_modules_have_their_entry_points() {
         ),
         (
             "sim/sim_output.wgsl",
-            &["write_frames", "write_guides", "write_followers"],
+            &[
+                "write_frames",
+                "write_guides",
+                "write_followers",
+                "fix_follower_lengths",
+            ],
         ),
     ];
     assert_eq!(expect.len(), shaders::ENTRY_MODULES.len());

@@ -8,7 +8,10 @@
 //! Every step it is rebuilt as the blend of the guides now plus that offset turned by the
 //! blend of the guides' frames there (each segment's frame: the head's rotation, then the
 //! smallest rotation from the head-turned rest direction to the current one), so followers turn
-//! with their guides.
+//! with their guides; a root's offset turns with the head alone, so it stays exactly on the
+//! head. Last, the follower keeps each rebuilt segment's direction and takes back its rest
+//! length from the root out ([`keep_lengths`]): guides that swing apart would otherwise stretch
+//! the followers between them.
 
 use glam::{Quat, Vec3};
 use rayon::prelude::*;
@@ -181,6 +184,21 @@ impl<'a> RootIndex<'a> {
     }
 }
 
+/// A follower rebuilt from its guides keeps each segment's direction and takes back its rest
+/// length, from the root out (its guides may have swung apart, which would stretch or shrink
+/// it). The GPU twin is `fix_follower_lengths` in `sim_output.wgsl`.
+pub fn keep_lengths(p: &mut [Vec3], rest_len: &[f32]) {
+    let Some(&first) = p.first() else { return };
+    let (mut before, mut fixed) = (first, first);
+    for (x, &len) in p.iter_mut().zip(rest_len).skip(1) {
+        let d = *x - before;
+        let l = d.length();
+        before = *x;
+        fixed += if l > 0.0 { d * (len / l) } else { d };
+        *x = fixed;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -212,6 +230,19 @@ mod tests {
             let want: Vec<u32> = brute.iter().take(3).map(|b| b.1).collect();
             assert_eq!(index.nearest(q, 3), want, "{q}");
         }
+    }
+
+    #[test]
+    fn keep_lengths_restores_rest_lengths_and_directions() {
+        let mut p = vec![
+            Vec3::ZERO,
+            Vec3::new(3.0, 0.0, 0.0),
+            Vec3::new(3.0, 0.5, 0.0),
+        ];
+        keep_lengths(&mut p, &[0.0, 1.0, 2.0]);
+        assert_eq!(p[0], Vec3::ZERO);
+        assert!((p[1] - Vec3::X).length() < 1e-6);
+        assert!((p[2] - Vec3::new(1.0, 2.0, 0.0)).length() < 1e-6);
     }
 
     #[test]

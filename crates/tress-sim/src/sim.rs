@@ -8,7 +8,7 @@ use tress_hair::generate::TriMesh;
 use crate::SimError;
 use crate::collide::{Colliders, Sdf};
 use crate::follow::Binding;
-use crate::follow::{bind, sample_at, segment_frames};
+use crate::follow::{bind, keep_lengths, sample_at, segment_frames};
 use crate::grid::HairGrid;
 use crate::motion::Rigid;
 use crate::settings::SimSettings;
@@ -50,6 +50,8 @@ pub struct Simulation {
     follower_offsets: Vec<u32>,
     bindings: Vec<Binding>,
     follower_rest: Vec<Vec3>,
+    /// Rest length of the segment ending at each follower vertex (0 at a root).
+    follower_len: Vec<f32>,
     /// The asset's vertex offsets, for output in its order.
     asset_offsets: Vec<u32>,
 }
@@ -79,6 +81,8 @@ pub struct SimLayout<'a> {
     pub bindings: &'a [Binding],
     /// Each follower vertex's rest offset from its guides' blend, head space.
     pub follower_rest: &'a [Vec3],
+    /// Rest length of the segment ending at each follower vertex (0 at a root).
+    pub follower_len: &'a [f32],
     /// The first asset vertex of each follower.
     pub follower_first: Vec<u32>,
     /// The hair–hair grid (its placement and rest weights).
@@ -187,6 +191,7 @@ impl Simulation {
         let bindings = bind(&guide_roots, &follower_roots, settings.follow);
         let follower_offsets = strand_offsets(asset, follower_ids.iter().copied());
         let mut follower_rest = Vec::with_capacity(*follower_offsets.last().unwrap_or(&0) as usize);
+        let mut follower_len = Vec::with_capacity(follower_rest.capacity());
         for (f, &s) in follower_ids.iter().enumerate() {
             let r = asset.strand_range(s);
             let m = r.len();
@@ -198,6 +203,11 @@ impl Simulation {
                 };
                 let blend = blend_at(&offsets, &rest, &bindings[f], frac);
                 follower_rest.push(positions[i] - blend);
+                follower_len.push(if j == 0 {
+                    0.0
+                } else {
+                    positions[i].distance(positions[i - 1])
+                });
             }
         }
         let mut strands = vec![(false, 0); count];
@@ -258,6 +268,7 @@ impl Simulation {
             follower_offsets,
             bindings,
             follower_rest,
+            follower_len,
             asset_offsets,
         })
     }
@@ -336,6 +347,7 @@ impl Simulation {
             follower_offsets: &self.follower_offsets,
             bindings: &self.bindings,
             follower_rest: &self.follower_rest,
+            follower_len: &self.follower_len,
             follower_first,
             grid: &self.grid,
         }
@@ -602,9 +614,16 @@ impl Simulation {
                     j as f32 / (m - 1) as f32
                 };
                 let blend = blend_at(&self.offsets, &self.x, b, frac);
-                let turn = blend_frames(&self.offsets, &frames, b, frac);
+                // A root turns with the head alone, so it sits exactly where the head carries
+                // it (the guides' first segments may have swung).
+                let turn = if j == 0 {
+                    head_rotation
+                } else {
+                    blend_frames(&self.offsets, &frames, b, frac)
+                };
                 *out = blend + turn * self.follower_rest[first + j];
             }
+            keep_lengths(dst, &self.follower_len[first..first + m]);
         });
         out
     }

@@ -227,6 +227,32 @@ impl Session {
         Ok(())
     }
 
+    /// Every character's vertex positions as the frames draw them (read back from the GPU, in
+    /// the characters' order): the simulated hair, for a cache or a test.
+    pub fn read_hair_positions(&mut self, ctx: &GpuContext) -> Result<Vec<Vec3>, RenderError> {
+        self.prepare(ctx)?;
+        let strands = self
+            .strands
+            .as_ref()
+            .ok_or_else(|| invalid("the strand renderer is not prepared"))?;
+        let mut out = Vec::new();
+        for geometry in &strands.hair {
+            let bytes = crate::gpu::read_whole_buffer(
+                ctx,
+                geometry.vertex_buffer(),
+                "session/hair-positions/readback",
+            )?;
+            let vertices: &[crate::gpu::types::StrandVertex] = bytemuck::cast_slice(&bytes);
+            out.extend(
+                vertices
+                    .iter()
+                    .take(geometry.vertex_count() as usize)
+                    .map(|v| Vec3::from_array(v.position)),
+            );
+        }
+        Ok(out)
+    }
+
     /// The simulation, when one runs.
     pub fn simulation(&self) -> Option<&SessionSimulation> {
         self.simulation.as_ref()
@@ -257,6 +283,27 @@ impl Session {
         t: f64,
         measure: bool,
     ) -> Result<SimulationFrame, RenderError> {
+        let (motion, pivots) = match &self.simulation {
+            Some(sim) => (
+                sim.motion.clone(),
+                sim.characters.iter().map(|c| c.pivot).collect::<Vec<_>>(),
+            ),
+            None => return Err(invalid("no simulation runs (start one first)")),
+        };
+        self.simulate_to_with(ctx, t, measure, |k, time| motion.at(time, pivots[k]))
+    }
+
+    /// [`Session::simulate_to`] with the application's own head: `head(character, time)` is
+    /// where character `character`'s head is at `time` seconds (a rigid transform of the space
+    /// its hair and head mesh were given in), asked for at the end of every step. An embedding
+    /// application drives the simulation this way from its own animation.
+    pub fn simulate_to_with(
+        &mut self,
+        ctx: &GpuContext,
+        t: f64,
+        measure: bool,
+        head: impl Fn(usize, f32) -> Rigid,
+    ) -> Result<SimulationFrame, RenderError> {
         self.check_simulated_technique()?;
         self.prepare(ctx)?;
         let sim = self
@@ -269,10 +316,13 @@ impl Session {
             .ok_or_else(|| invalid("the strand renderer is not prepared"))?;
         let start = Instant::now();
         let mut steps = 0;
-        let motion = sim.motion.clone();
-        for (c, geometry) in sim.characters.iter_mut().zip(strands.hair.iter_mut()) {
-            let pivot = c.pivot;
-            steps += c.gpu.advance_to(ctx, t, |t| motion.at(t, pivot))?;
+        for (k, (c, geometry)) in sim
+            .characters
+            .iter_mut()
+            .zip(strands.hair.iter_mut())
+            .enumerate()
+        {
+            steps += c.gpu.advance_to(ctx, t, |time| head(k, time))?;
             c.gpu.write_positions(ctx, geometry)?;
             let head = c.gpu.simulation().head();
             geometry.bounds = (head.apply(c.rest_bounds.0), c.rest_bounds.1 + 0.5 * c.reach);

@@ -28,6 +28,10 @@ pub(crate) struct SimBuffers {
     pub(crate) guide_first: wgpu::Buffer,
     pub(crate) followers: wgpu::Buffer,
     pub(crate) follower_vertex_data: wgpu::Buffer,
+    /// Rest length of the segment ending at each follower vertex.
+    pub(crate) follower_len: wgpu::Buffer,
+    /// Number of followers.
+    pub(crate) followers_count: u32,
     pub(crate) guide_vertices: u32,
     pub(crate) guides: u32,
     pub(crate) follower_vertices: u32,
@@ -255,6 +259,13 @@ impl SimBuffers {
                 bytemuck::cast_slice(&follower_vertices),
                 none,
             ),
+            follower_len: storage(
+                ctx,
+                "sim/output/follower-lengths",
+                bytemuck::cast_slice(l.follower_len),
+                none,
+            ),
+            followers_count: followers.len() as u32,
             positions,
             guide_vertices: n as u32,
             guides: guides as u32,
@@ -277,6 +288,7 @@ impl SimBuffers {
             &this.guide_first,
             &this.followers,
             &this.follower_vertex_data,
+            &this.follower_len,
             &this.uniforms,
         ]
         .iter()

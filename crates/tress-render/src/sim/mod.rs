@@ -219,7 +219,7 @@ impl GpuSimulation {
             counts: [
                 self.buffers.guide_vertices,
                 self.buffers.follower_vertices,
-                0,
+                self.buffers.followers_count,
                 0,
             ],
         };

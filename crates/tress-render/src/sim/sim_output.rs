@@ -23,6 +23,7 @@ pub(crate) struct SimOutput {
     frames: wgpu::ComputePipeline,
     guides: wgpu::ComputePipeline,
     followers: wgpu::ComputePipeline,
+    lengths: wgpu::ComputePipeline,
     out_layout: wgpu::BindGroupLayout,
     guide_group: wgpu::BindGroup,
     follower_group: wgpu::BindGroup,
@@ -53,7 +54,11 @@ impl SimOutput {
             let follower_layout = bind_group_layout(
                 ctx,
                 "sim/output/follower-layout",
-                &[storage(2, c, true), storage(3, c, true)],
+                &[
+                    storage(2, c, true),
+                    storage(3, c, true),
+                    storage(4, c, true),
+                ],
             );
             let guide_pipeline_layout = pipeline_layout(
                 ctx,
@@ -72,6 +77,7 @@ impl SimOutput {
                 frames: p("write_frames", &guide_pipeline_layout),
                 guides: p("write_guides", &guide_pipeline_layout),
                 followers: p("write_followers", &follower_pipeline_layout),
+                lengths: p("fix_follower_lengths", &follower_pipeline_layout),
                 guide_group: ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("sim/output/guide-group"),
                     layout: &guide_layout,
@@ -80,7 +86,11 @@ impl SimOutput {
                 follower_group: ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("sim/output/follower-group"),
                     layout: &follower_layout,
-                    entries: &[entry(2, &b.followers), entry(3, &b.follower_vertex_data)],
+                    entries: &[
+                        entry(2, &b.followers),
+                        entry(3, &b.follower_vertex_data),
+                        entry(4, &b.follower_len),
+                    ],
                 }),
                 out_layout,
                 out_groups: Mutex::new(HashMap::new()),
@@ -130,6 +140,9 @@ impl SimOutput {
             pass.set_bind_group(1, &self.follower_group, &[]);
             pass.set_pipeline(&self.followers);
             pass.dispatch_workgroups(fx, fy, 1);
+            let (lx, ly) = dispatch_2d(b.followers_count, 64);
+            pass.set_pipeline(&self.lengths);
+            pass.dispatch_workgroups(lx, ly, 1);
         }
     }
 }

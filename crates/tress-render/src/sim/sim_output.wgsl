@@ -7,7 +7,11 @@
 //   write_guides     (a guide vertex)     the guides' positions as simulated
 //   write_followers  (a follower vertex)  each follower rebuilt from its guides' blend at the same
 //                                   fraction of their length, plus its rest offset turned by the
-//                                   blend of their frames there
+//                                   blend of their frames there (at the root, by the head's
+//                                   rotation alone)
+//   fix_follower_lengths (a follower)     each follower keeps its segments' directions and takes
+//                                   back their rest lengths from the root out
+//                                   (tress_sim::follow::keep_lengths)
 //
 // Only `position` of the renderers' `StrandVertex` is written; thickness, colour and alpha stay
 // as uploaded.
@@ -18,7 +22,7 @@
 struct SimOutputParams {
     // The head's rotation now.
     head_rotation: vec4<f32>,
-    // x: guide vertices, y: follower vertices, z, w: unused.
+    // x: guide vertices, y: follower vertices, z: followers, w: unused.
     counts: vec4<u32>,
 }
 
@@ -65,6 +69,8 @@ struct SimFollowerVertex {
 // Group 1 of `write_followers`.
 @group(1) @binding(2) var<storage, read> followers: array<SimFollower>;
 @group(1) @binding(3) var<storage, read> follower_vertices: array<SimFollowerVertex>;
+// Rest length of the segment ending at each follower vertex (0 at a root).
+@group(1) @binding(4) var<storage, read> follower_len: array<f32>;
 
 fn thread_index(id: vec3<u32>, groups: vec3<u32>) -> u32 {
     return id.x + id.y * groups.x * 64u;
@@ -147,6 +153,33 @@ fn write_followers(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
         q_sum += q * w;
     }
     let len = length(q_sum);
-    let q = select(vec4<f32>(0.0, 0.0, 0.0, 1.0), q_sum / len, len > 0.0);
+    var q = select(vec4<f32>(0.0, 0.0, 0.0, 1.0), q_sum / len, len > 0.0);
+    if j == 0u {
+        // A root turns with the head alone, so it sits exactly where the head carries it.
+        q = out_params.head_rotation;
+    }
     out_vertices[f.asset_first + j].position = blend + quat_rotate(q, fv.offset);
+}
+
+@compute @workgroup_size(64)
+fn fix_follower_lengths(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = thread_index(id, groups);
+    if i >= out_params.counts.z {
+        return;
+    }
+    let f = followers[i];
+    let m = f.guides.w;
+    if m < 2u {
+        return;
+    }
+    var before = out_vertices[f.asset_first].position;
+    var fixed = before;
+    for (var j = 1u; j < m; j = j + 1u) {
+        let x = out_vertices[f.asset_first + j].position;
+        let d = x - before;
+        let l = length(d);
+        before = x;
+        fixed += select(d, d * (follower_len[f.first + j] / l), l > 0.0);
+        out_vertices[f.asset_first + j].position = fixed;
+    }
 }

@@ -80,7 +80,7 @@ pub struct SimRest {
 pub struct SimOutputParams {
     /// The head's rotation now.
     pub head_rotation: [f32; 4],
-    /// Guide vertices, follower vertices, unused, unused.
+    /// Guide vertices, follower vertices, followers, unused.
     pub counts: [u32; 4],
 }
 

@@ -1,0 +1,114 @@
+//! A session simulating an application's hair with the application's own head transform
+//! (`Session::simulate_to_with`, as `examples/embed.rs` does): the roots the frames draw sit
+//! exactly on the moving head, the strands keep their length, and a technique that cannot draw
+//! simulated hair refuses.
+
+mod common;
+
+use glam::{Quat, Vec3};
+use tress_hair::HairAsset;
+use tress_render::scene_setup::PreparedHair;
+use tress_render::session::{Session, SessionOptions};
+use tress_render::{Material, TargetFormats, TechniqueKind, TriMesh};
+use tress_sim::{MotionSpec, Rigid, SimSettings};
+
+/// Strands rooted on the upper half of a sphere of radius 10, drooping outwards.
+fn hair() -> HairAsset {
+    let mut positions = Vec::new();
+    let (strands, vertices) = (200u32, 10u32);
+    for i in 0..strands {
+        let y = 1.0 - (i as f32 + 0.5) / strands as f32 * 0.8;
+        let r = (1.0 - y * y).sqrt();
+        let phi = 2.39996 * i as f32;
+        let n = Vec3::new(r * phi.cos(), y, r * phi.sin());
+        let mut p = n * 10.0;
+        let mut dir = n;
+        for _ in 0..vertices {
+            positions.push(p);
+            dir = (dir + Vec3::new(0.0, -0.3, 0.0)).normalize();
+            p += dir * 1.5;
+        }
+    }
+    HairAsset::from_counts(positions, &vec![vertices; strands as usize]).unwrap()
+}
+
+fn session(ctx: &tress_render::GpuContext, asset: &HairAsset) -> Session {
+    let hair = PreparedHair {
+        asset: asset.clone(),
+        material: Material::default(),
+        technique: TechniqueKind::Strands,
+    };
+    let head = TriMesh::uv_sphere(Vec3::ZERO, 9.8, 24, 32);
+    Session::with_hair(
+        ctx,
+        TargetFormats::default(),
+        tress_scene::Scene::default(),
+        vec![hair],
+        Some(head),
+        SessionOptions::default(),
+    )
+    .unwrap()
+}
+
+#[test]
+fn the_applications_head_carries_the_roots_and_the_strands_keep_their_length() {
+    let Some(ctx) = common::gpu() else { return };
+    let asset = hair();
+    let mut s = session(&ctx, &asset);
+    let settings = SimSettings {
+        guides: 0.25,
+        ..SimSettings::default()
+    };
+    s.start_simulation(&ctx, settings, MotionSpec::default())
+        .unwrap();
+    let head = |_: usize, t: f32| {
+        Rigid::about(
+            Vec3::ZERO,
+            Quat::from_rotation_y(1.2 * t),
+            Vec3::new(4.0 * t, 0.0, 0.0),
+        )
+    };
+    let frame = s.simulate_to_with(&ctx, 0.5, true, head).unwrap();
+    assert_eq!(frame.steps, 30);
+    let p = s.read_hair_positions(&ctx).unwrap();
+    let now = head(0, 0.5);
+    let mut worst = 0.0f32;
+    for st in 0..asset.strand_count() {
+        let r = asset.strand_range(st);
+        let root = now.apply(asset.positions()[r.start]);
+        assert!(
+            p[r.start].distance(root) < 1e-3,
+            "strand {st}'s root is off the head"
+        );
+        for i in r.start + 1..r.end {
+            let l0 = asset.positions()[i].distance(asset.positions()[i - 1]);
+            let e = (p[i].distance(p[i - 1]) - l0).abs() / l0;
+            worst = worst.max(e);
+        }
+    }
+    // Guides and followers alike (followers are rebuilt, then take back their rest lengths).
+    assert!(worst <= 0.005, "a segment's length changed by {worst}");
+    // The hair moved with the head, not only its roots.
+    let tips_moved = (0..asset.strand_count())
+        .map(|st| {
+            let tip = asset.strand_range(st).end - 1;
+            p[tip].distance(asset.positions()[tip])
+        })
+        .fold(0.0f32, f32::max);
+    assert!(tips_moved > 2.0, "the tips moved {tips_moved}");
+    // Stopping puts the hair back at rest.
+    s.stop_simulation(&ctx).unwrap();
+    assert_eq!(s.read_hair_positions(&ctx).unwrap(), asset.positions());
+}
+
+#[test]
+fn patches_and_satf_refuse_simulation_and_say_what_draws_it() {
+    let Some(ctx) = common::gpu() else { return };
+    let mut s = session(&ctx, &hair());
+    s.set_technique(&ctx, "patches").unwrap();
+    let e = s
+        .start_simulation(&ctx, SimSettings::default(), MotionSpec::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("strands, volume, hybrid and auto"), "{e}");
+}
