@@ -24,7 +24,9 @@
 //!   sample, the values and their dimensions (empty: one dimension, from the values' size).
 //!   Every non-empty sample block starts with a 16-byte digest before the values.
 //!
-//! Only the first sample (frame 0) of a property is read.
+//! One sample of a property is read: the first, or for `P` the one asked for
+//! ([`crate::read_frame`]; Alembic stores sample 0, then the changed samples
+//! `first..=last`, and the rest repeat one of those).
 //!
 //! # Validation
 //!
@@ -117,7 +119,24 @@ pub(crate) struct PropertyHeader {
     pub(crate) pod: Pod,
     pub(crate) extent: usize,
     pub(crate) samples: u32,
+    /// The first and last sample stored apart from sample 0 (Alembic stores sample 0, then
+    /// `first..=last`; samples before `first` repeat sample 0, those after `last` repeat it).
+    pub(crate) changed: (u32, u32),
     pub(crate) metadata: String,
+}
+
+impl PropertyHeader {
+    /// Which stored sample holds sample `k` (Alembic's `ReadUtil` rule).
+    pub(crate) fn stored(&self, k: u32) -> u32 {
+        let (first, last) = self.changed;
+        if (first == 0 && last == 0) || k < first || first > last {
+            0
+        } else if k >= last {
+            last - first + 1
+        } else {
+            k - first + 1
+        }
+    }
 }
 
 /// An object's header (its name and metadata).
@@ -148,6 +167,8 @@ pub(crate) struct Reader<'a> {
     pub(crate) ogawa: Ogawa<'a>,
     indexed_metadata: Vec<String>,
     visited: HashSet<u64>,
+    /// The sample of `P` to read (0: the first).
+    pub(crate) frame: u32,
 }
 
 /// A cursor over packed little-endian header bytes.
@@ -237,6 +258,7 @@ impl<'a> Reader<'a> {
             ogawa,
             indexed_metadata,
             visited,
+            frame: 0,
         })
     }
 
@@ -360,14 +382,17 @@ impl<'a> Reader<'a> {
             };
             let hint = (info >> 2) & 0x3;
             let meta_index = (info >> 20) & 0xff;
-            let (mut pod, mut extent, mut samples) = (Pod::U8, 1, 0);
+            let (mut pod, mut extent, mut samples, mut changed) = (Pod::U8, 1, 0, (0, 0));
             if kind != Kind::Compound {
                 pod = Pod::from_code((info >> 4) & 0xf)?;
                 extent = ((info >> 12) & 0xff) as usize;
                 samples = cursor.size(hint)?;
+                changed = (1, samples.saturating_sub(1));
                 if info & 0x200 != 0 {
-                    cursor.size(hint)?;
-                    cursor.size(hint)?;
+                    changed = (cursor.size(hint)?, cursor.size(hint)?);
+                }
+                if info & 0x800 != 0 {
+                    changed = (0, 0);
                 }
                 if info & 0x100 != 0 {
                     cursor.size(hint)?;
@@ -382,6 +407,7 @@ impl<'a> Reader<'a> {
                 pod,
                 extent,
                 samples,
+                changed,
                 metadata,
             });
         }
@@ -430,13 +456,38 @@ impl<'a> Reader<'a> {
         compound: &Compound<'a>,
         index: usize,
     ) -> Result<&'a [u8], AlembicError> {
+        self.sample(compound, index, 0)
+    }
+
+    /// The raw bytes of sample `k` of scalar or array property `index` (digest removed; a
+    /// sample past the last is the last), checked as [`Reader::first_sample`] checks.
+    pub(crate) fn sample(
+        &mut self,
+        compound: &Compound<'a>,
+        index: usize,
+        k: u32,
+    ) -> Result<&'a [u8], AlembicError> {
         let h = &compound.headers[index];
         let g = self.ogawa.child_group(&compound.group, index, &h.name)?;
         let g = self.enter(g)?;
         if h.samples == 0 || g.len() == 0 {
             return Ok(&[]);
         }
-        let data = self.ogawa.child_data(&g, 0, &h.name)?;
+        let stored = h.stored(k.min(h.samples - 1)) as usize;
+        let child = if h.kind == Kind::Array {
+            2 * stored
+        } else {
+            stored
+        };
+        if child >= g.len() {
+            return Err(malformed(format!(
+                "{} has {} samples but stores {} groups, too few for sample {k}",
+                h.name,
+                h.samples,
+                g.len()
+            )));
+        }
+        let data = self.ogawa.child_data(&g, child, &h.name)?;
         if data.is_empty() {
             return Ok(&[]);
         }

@@ -1,8 +1,8 @@
 //! A reader for the curves in Alembic files (the Ogawa container): every `ICurves` object with
 //! its world transform (the Xform objects above it composed), positions, vertex counts, curve
 //! type, wrap and basis, widths, NURBS orders/knots/weights, and Unreal Engine's groom
-//! attributes (`groom_color`, `groom_root_uv`, `groom_guide`). Only the first sample (frame 0)
-//! of animated properties is read.
+//! attributes (`groom_color`, `groom_root_uv`, `groom_guide`). `P` is read at the frame asked
+//! for ([`read_frame`], an animated cache); every other property at its first sample.
 //!
 //! This crate turns bytes into [`Curves`]; it knows nothing about hair assets. `tress-hair`
 //! tessellates them (`tress_hair::formats::abc`).
@@ -146,6 +146,8 @@ pub struct Curves {
     pub root_uv: Option<Param<[f32; 2]>>,
     /// Unreal's `groom_guide`: non-zero marks a guide curve.
     pub guide: Option<Param<i64>>,
+    /// How many samples `P` has (an animated cache has one a frame; at least 1).
+    pub position_samples: u32,
 }
 
 /// Everything read from an archive.
@@ -159,8 +161,16 @@ pub struct Contents {
 
 /// Read every curves object of an Ogawa Alembic file held in memory.
 pub fn read(bytes: &[u8]) -> Result<Contents, AlembicError> {
+    read_frame(bytes, 0)
+}
+
+/// [`read`] with every curves object's `P` at sample `frame` (an animated cache: sample `k` is
+/// the `k`-th frame written; a frame past the last reads the last). The curve counts and
+/// attributes are read at their first sample: a cache whose topology changes is not modelled.
+pub fn read_frame(bytes: &[u8], frame: u32) -> Result<Contents, AlembicError> {
     let ogawa = ogawa::Ogawa::parse(bytes)?;
     let mut reader = archive::Reader::new(ogawa)?;
+    reader.frame = frame;
     let top = reader.top()?;
     let mut out = Contents::default();
     schema::walk(&mut reader, top, "", schema::IDENTITY, 0, &mut out)?;

@@ -352,7 +352,7 @@ fn param_f32n<'a, const N: usize>(
     )
 }
 
-/// A Curve object's first sample.
+/// A Curve object: `P` at the reader's frame, everything else at its first sample.
 fn curves<'a>(
     reader: &mut Reader<'a>,
     props: &Compound<'a>,
@@ -371,7 +371,9 @@ fn curves<'a>(
     if ph.pod != Pod::F32 || ph.extent != 3 || ph.kind != Kind::Array {
         return Err(malformed(format!("{path}/P is not an array of float32[3]")));
     }
-    let positions = f32_arrays::<3>(reader.first_sample(&geom, pi)?);
+    let frame = reader.frame;
+    let positions = f32_arrays::<3>(reader.sample(&geom, pi, frame)?);
+    let position_samples = ph.samples.max(1);
     let (ni, nh) = required("nVertices")?;
     let counts = ints(nh.pod, reader.first_sample(&geom, ni)?, "nVertices")?;
     let mut total: u64 = 0;
@@ -467,5 +469,6 @@ fn curves<'a>(
         colors,
         root_uv,
         guide,
+        position_samples,
     })
 }

@@ -37,6 +37,7 @@ fn curves(counts: &[i32], seed: f32, guide: bool) -> CurvesOut {
         colors: Some((Scope::Uniform, vec![[0.5, 0.25, 0.125]; counts.len()])),
         root_uv: Some(vec![[0.5, 0.5]; counts.len()]),
         guide: guide.then(|| (0..counts.len() as i32).map(|i| i % 2).collect()),
+        frames: Vec::new(),
     }
 }
 
