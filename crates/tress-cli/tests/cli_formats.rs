@@ -85,7 +85,7 @@ fn convert_between_formats_keeps_the_strands() {
         );
         assert_eq!(info(to)["vertices"], a["vertices"], "{}", to.display());
     }
-    let out = tress(&["convert", s(&data("groom.usda")), s(&tmp("x.abc"))]);
+    let out = tress(&["convert", s(&data("groom.usda")), s(&tmp("x.usdz"))]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("does not write"));
 }

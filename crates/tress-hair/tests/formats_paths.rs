@@ -123,8 +123,8 @@ fn errors_name_the_file() {
             .to_string()
             .contains("unknown extension")
     );
-    let e = write_path(&dir.join("x.abc"), &a).unwrap_err().to_string();
-    assert!(e.contains("x.abc") && e.contains("does not write"), "{e}");
+    let e = write_path(&dir.join("x.usdz"), &a).unwrap_err().to_string();
+    assert!(e.contains("x.usdz") && e.contains("does not write"), "{e}");
     let uneven = HairAsset::from_counts(vec![Vec3::ZERO; 5], &[2, 3]).unwrap();
     let out = dir.join("uneven.tfx");
     let e = write_path(&out, &uneven).unwrap_err().to_string();

@@ -59,11 +59,34 @@ fn cubic_density_is_a_setting() {
     // 8 curves; at 1 segment per span the vertices are the span ends: spans + 1 per curve.
     // bezier 4, 7 -> 1, 2 spans; bspline pinned 4, 6 -> 3, 5; bspline 5 -> 2; catmullRom 5 -> 2;
     // catmullRom pinned 3, 4 -> 2, 3. Spans: 20, so 28 vertices.
-    let one = load_path(&data("cubic.usda"), &ReadOptions { cubic_segments: 1 }).unwrap();
+    let one = load_path(
+        &data("cubic.usda"),
+        &ReadOptions {
+            cubic_segments: 1,
+            ..ReadOptions::default()
+        },
+    )
+    .unwrap();
     assert_eq!(one.asset.vertex_count(), 28);
-    let eight = load_path(&data("cubic.usda"), &ReadOptions { cubic_segments: 8 }).unwrap();
+    let eight = load_path(
+        &data("cubic.usda"),
+        &ReadOptions {
+            cubic_segments: 8,
+            ..ReadOptions::default()
+        },
+    )
+    .unwrap();
     assert_eq!(eight.asset.vertex_count(), 20 * 8 + 8);
-    assert!(load_path(&data("cubic.usda"), &ReadOptions { cubic_segments: 0 }).is_err());
+    assert!(
+        load_path(
+            &data("cubic.usda"),
+            &ReadOptions {
+                cubic_segments: 0,
+                ..ReadOptions::default()
+            }
+        )
+        .is_err()
+    );
 }
 
 fn full_asset() -> HairAsset {

@@ -206,6 +206,11 @@ pub struct HairSpec {
     /// unset: 4).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cubic_segments: Option<u32>,
+    /// The frame of an animated file to read (Alembic `P` samples, USD `points` time samples;
+    /// 0 the first, past the last the last); unset: the first. A still file reads the same at
+    /// every frame.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frame: Option<u32>,
     /// What draws this head of hair when the scene's technique is one of the strand renderer's
     /// (`strands`, `volume`, `hybrid`, `auto`); unset: the scene's `technique`. A front end that
     /// forces one technique ([`crate::Scene::force_technique`], `tress render --technique`)
@@ -226,6 +231,7 @@ impl Default for HairSpec {
             strand_ratio: 1.0,
             material: Material::default(),
             cubic_segments: None,
+            frame: None,
             technique: None,
         }
     }

@@ -448,6 +448,7 @@ impl Scene {
                 let defaults = formats::ReadOptions::default();
                 let options = formats::ReadOptions {
                     cubic_segments: spec.cubic_segments.unwrap_or(defaults.cubic_segments),
+                    frame: spec.frame.unwrap_or(defaults.frame),
                 };
                 let (asset, found) = formats::load_paths(&paths, &options)?;
                 meshes.extend(found.into_iter().filter_map(|(_, d)| d.mesh));

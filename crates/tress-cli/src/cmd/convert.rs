@@ -64,6 +64,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let pb = progress::spinner("reading");
     let options = tress_hair::formats::ReadOptions {
         cubic_segments: args.cubic_segments,
+        ..tress_hair::formats::ReadOptions::default()
     };
     let hair = tress_hair::formats::load_paths(inputs, &options);
     pb.finish_and_clear();

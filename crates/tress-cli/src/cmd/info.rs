@@ -101,6 +101,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let pb = progress::spinner("reading");
     let options = ReadOptions {
         cubic_segments: args.cubic_segments,
+        ..ReadOptions::default()
     };
     let read = tress_hair::formats::load_paths(&args.files, &options);
     pb.finish_and_clear();

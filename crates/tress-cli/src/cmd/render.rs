@@ -47,6 +47,10 @@ pub(crate) struct Args {
     /// says; frames 1/24 s apart); the volume is voxelized again every frame.
     #[arg(long, value_name = "MOTION")]
     animate: Option<String>,
+    /// The frame of animated hair files to draw (Alembic `P` samples, USD `points` time
+    /// samples, as `tress simulate` writes them; 0 the first): sets `frame` of every hair entry.
+    #[arg(long, value_name = "K")]
+    frame: Option<u32>,
     /// Write the exact sorted composite of the strands instead of the OIT's (a reference for
     /// `tress compare-images`): drawn with the PPLL holding every fragment, its lists read back
     /// and every pixel's fragments blended in depth order on the CPU. Technique `strands`.
@@ -85,6 +89,11 @@ pub(crate) fn apply_options(
 pub(crate) fn run(args: Args) -> Result<()> {
     check_output(&args.output)?;
     let (mut scene, auto_frame) = base_scene(&args.inputs)?;
+    if let Some(k) = args.frame {
+        for h in &mut scene.hair {
+            h.frame = Some(k);
+        }
+    }
     let sets: Vec<String> = if args.exact_oit {
         super::exact_oit::SETS
             .iter()

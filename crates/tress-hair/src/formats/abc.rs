@@ -6,8 +6,8 @@
 //! `width` → thickness (its `geoScope` as the interpolation); and Unreal Engine's groom
 //! attributes: `groom_color` → color, `groom_root_uv` → strand UV, and `groom_guide`: curves
 //! with a non-zero value are simulation guides, not rendered hair, and are skipped (counted in
-//! [`AbcInfo::guides_skipped`]). Other objects (meshes, cameras) and attributes are ignored; only
-//! frame 0 of an animation is read. HDF5-based Alembic files are refused: "HDF5 Alembic is not
+//! [`AbcInfo::guides_skipped`]). Other objects (meshes, cameras) and attributes are ignored; `P` is
+//! read at [`ReadOptions::frame`] (an animated cache), everything else at its first sample. HDF5-based Alembic files are refused: "HDF5 Alembic is not
 //! supported, re-export as Ogawa".
 
 use glam::{DMat4, Vec2, Vec3};
@@ -151,7 +151,7 @@ fn curve_set(mut c: Curves, guides: &mut usize) -> Result<CurveSet, HairError> {
 
 /// Read the curves of an Ogawa Alembic file (see the [module docs](self)).
 pub fn read_abc(bytes: &[u8], options: &ReadOptions) -> Result<(HairAsset, AbcInfo), HairError> {
-    let contents = tress_alembic::read(bytes).map_err(error)?;
+    let contents = tress_alembic::read_frame(bytes, options.frame).map_err(error)?;
     let mut info = AbcInfo {
         ignored: contents.ignored,
         ..AbcInfo::default()
@@ -185,4 +185,61 @@ fn in_format(e: HairError) -> HairError {
         HairError::Invalid(reason) => HairError::format(FORMAT, reason),
         other => other,
     }
+}
+
+/// The asset as an Alembic (Ogawa) file: one linear `ICurves` object `hair` with `P`,
+/// `nVertices` and, when the asset has them, `width` and `groom_color` per vertex. With more
+/// than one frame (each as many vertices as the asset) `P` is an animated cache: one sample a
+/// frame, `1 / fps` seconds apart from `1 / fps` (frame 1 in Blender), which Blender and the
+/// Alembic library read as animated curves.
+pub fn write_abc(asset: &HairAsset, frames: &[Vec<Vec3>], fps: f64) -> Result<Vec<u8>, HairError> {
+    if !(fps.is_finite() && fps > 0.0) {
+        return Err(HairError::format(
+            FORMAT,
+            format!("frames per second must be positive, not {fps}"),
+        ));
+    }
+    if let Some(k) = frames
+        .iter()
+        .position(|f| f.len() != asset.positions().len())
+    {
+        return Err(HairError::format(
+            FORMAT,
+            format!(
+                "frame {k} has {} points, the hair {}",
+                frames[k].len(),
+                asset.positions().len()
+            ),
+        ));
+    }
+    let counts = asset
+        .vertex_counts()
+        .map(i32::try_from)
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|_| HairError::format(FORMAT, "a strand has more than 2^31 vertices"))?;
+    let array = |p: &[Vec3]| p.iter().map(|v| v.to_array()).collect::<Vec<_>>();
+    let (first, rest) = match frames.split_first() {
+        Some((f, rest)) => (array(f), rest),
+        None => (array(asset.positions()), &[][..]),
+    };
+    let curves = tress_alembic::write::CurvesOut {
+        name: "hair".into(),
+        positions: first,
+        vertex_counts: counts,
+        widths: asset
+            .thickness()
+            .map(|t| (tress_alembic::Scope::Vertex, t.to_vec())),
+        colors: asset
+            .color()
+            .map(|c| (tress_alembic::Scope::Vertex, array(c))),
+        frames: rest.iter().map(|f| array(f)).collect(),
+        ..Default::default()
+    };
+    Ok(tress_alembic::write::write_animated(
+        &[curves],
+        tress_alembic::write::TimeSampling {
+            seconds_per_frame: 1.0 / fps,
+            start: 1.0 / fps,
+        },
+    ))
 }

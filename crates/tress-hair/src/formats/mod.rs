@@ -4,14 +4,15 @@
 //! | --- | --- | --- | --- | --- |
 //! | Cem Yuksel `.hair` (with the vkhr extension) | `.hair` | yes | yes (plain Cem Yuksel layout) | [`hair`] |
 //! | TressFX 3.x / 4.x | `.tfx` | yes (3.x: follow hairs generated) | 4.x | [`tfx`] |
-//! | USD `BasisCurves` / `NurbsCurves` (+ `Mesh`) | `.usda` `.usdc` `.usdz` `.usd` | yes | `.usda`, `.usdc` (linear) | [`usd`] |
-//! | Alembic `ICurves` (Ogawa) | `.abc` | yes | no | [`abc`] |
+//! | USD `BasisCurves` / `NurbsCurves` (+ `Mesh`) | `.usda` `.usdc` `.usdz` `.usd` | yes | `.usda`, `.usdc` (linear; also animated caches) | [`usd`] |
+//! | Alembic `ICurves` (Ogawa) | `.abc` | yes | yes (also animated caches) | [`abc`] |
 //! | USC-HairSalon | `.data` | yes (1-vertex strands skipped) | yes | [`usc`] |
 //! | CT2Hair | `.bin` | yes | no | [`ct2hair`] |
 //!
 //! The submodules document the exact layouts and where they come from. Cubic and NURBS curves are
 //! tessellated by the rule in [`curves`] at [`ReadOptions::cubic_segments`]. Head and body
-//! meshes (OBJ, glTF, USD `Mesh`) are read by [`mesh`].
+//! meshes (OBJ, glTF, USD `Mesh`) are read by [`mesh`]. Animated caches (a simulation's frames) are
+//! written by [`write_cache_path`] and read a frame at a time ([`ReadOptions::frame`]).
 //!
 //! # Validation
 //!
@@ -78,7 +79,7 @@ pub enum Format {
 /// The extensions tress reads, for messages.
 const READS: &str = ".hair, .tfx, .usda, .usdc, .usdz, .usd, .abc, .data and .bin";
 /// The extensions tress writes, for messages.
-const WRITES: &str = ".hair, .tfx, .usda, .usdc, .usd and .data";
+const WRITES: &str = ".hair, .tfx, .usda, .usdc, .usd, .abc and .data";
 
 impl Format {
     /// Every format, in a stable order.
@@ -207,7 +208,8 @@ impl Format {
             Format::Data => write_data(asset),
             Format::Usda => write_usd(asset, UsdFlavor::Text),
             Format::Usdc | Format::Usd => write_usd(asset, UsdFlavor::Binary),
-            Format::Usdz | Format::Abc | Format::Ct2Hair => Err(HairError::format(
+            Format::Abc => abc::write_abc(asset, &[], 24.0),
+            Format::Usdz | Format::Ct2Hair => Err(HairError::format(
                 "hair file",
                 format!(
                     "tress reads {} but does not write it; it writes {WRITES}",
@@ -299,6 +301,37 @@ pub fn load_path(path: &Path, options: &ReadOptions) -> Result<Loaded, HairError
 pub fn write_path(path: &Path, asset: &HairAsset) -> Result<(), HairError> {
     let format = Format::from_path(path)?;
     let bytes = format.write(asset).map_err(|e| e.in_file(path))?;
+    std::fs::write(path, bytes).map_err(|e| HairError::from(e).in_file(path))
+}
+
+/// Write an animated cache of `asset` (its strands, widths and colours) moving through `frames`
+/// (each as many vertices as the asset), `fps` frames a second, its format chosen by
+/// extension: `.abc` (Alembic `ICurves` with `P` sampled once a frame on a uniform time
+/// sampling) or `.usda` / `.usdc` / `.usd` (`BasisCurves` with `points.timeSamples` at time
+/// codes 1…N and `timeCodesPerSecond = fps`). Read a frame back with [`ReadOptions::frame`].
+/// Errors read `path: problem`.
+pub fn write_cache_path(
+    path: &Path,
+    asset: &HairAsset,
+    frames: &[Vec<glam::Vec3>],
+    fps: f64,
+) -> Result<(), HairError> {
+    let format = Format::from_path(path)?;
+    let bytes = match format {
+        Format::Abc => abc::write_abc(asset, frames, fps),
+        Format::Usda => usd::write_usd_animated(asset, frames, fps, UsdFlavor::Text),
+        Format::Usdc | Format::Usd => {
+            usd::write_usd_animated(asset, frames, fps, UsdFlavor::Binary)
+        }
+        other => Err(HairError::format(
+            "cache",
+            format!(
+                "{} holds no animation; a cache is written as .abc, .usda, .usdc or .usd",
+                other.name()
+            ),
+        )),
+    }
+    .map_err(|e| e.in_file(path))?;
     std::fs::write(path, bytes).map_err(|e| HairError::from(e).in_file(path))
 }
 

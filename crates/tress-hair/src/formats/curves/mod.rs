@@ -44,6 +44,11 @@ use stencils::Stencils;
 pub struct ReadOptions {
     /// Segments each cubic span (and NURBS knot span) is cut into: 1 to [`MAX_CUBIC_SEGMENTS`].
     pub cubic_segments: u32,
+    /// The frame of an animated file to read: the `frame`-th time sample of USD `points` and
+    /// the `frame`-th sample of Alembic `P` (0: the first; past the last: the last). Other
+    /// attributes and transforms are read at their first sample; a still file reads the same
+    /// at every frame.
+    pub frame: u32,
 }
 
 /// The most segments per span [`ReadOptions::cubic_segments`] accepts.
@@ -51,7 +56,10 @@ pub const MAX_CUBIC_SEGMENTS: u32 = 64;
 
 impl Default for ReadOptions {
     fn default() -> Self {
-        ReadOptions { cubic_segments: 4 }
+        ReadOptions {
+            cubic_segments: 4,
+            frame: 0,
+        }
     }
 }
 

@@ -22,7 +22,8 @@
 //!
 //! Each prim's world transform is its `xformOp`s composed up the hierarchy
 //! (`!resetXformStack!` honoured), so several grooms in one stage merge as several files do.
-//! Attributes with only time samples are read at the earliest one. Everything else (materials,
+//! Attributes with only time samples are read at the earliest one, except `points`, read at
+//! its [`ReadOptions::frame`]-th time sample (an animated cache). Everything else (materials,
 //! `HermiteCurves`, `normals`, other primvars) is ignored. A composition error (an arc cycle, a
 //! missing layer) is an error naming it.
 //!
@@ -60,7 +61,7 @@ use super::curves::ReadOptions;
 use crate::generate::TriMesh;
 use crate::{HairAsset, HairError};
 
-pub use write::{UsdFlavor, write_usd};
+pub use write::{UsdFlavor, write_usd, write_usd_animated};
 
 const FORMAT: &str = "USD";
 
@@ -328,7 +329,11 @@ fn contents(stage: &Stage, options: &ReadOptions) -> Result<UsdContents, HairErr
             continue;
         }
         let world = world_transform(stage, path, &mut worlds)?;
-        found.add(&prim, ty, world, options)?;
+        let at = schema::AtFrame {
+            prim: &prim,
+            frame: options.frame,
+        };
+        found.add(&at, ty, world, options)?;
     }
     if let Some(e) = stage.composition_errors().first() {
         return Err(err(format!("composition error: {e}")));

@@ -22,6 +22,40 @@ pub(super) trait Attrs {
     fn interpolation(&self, name: &str) -> Option<Value>;
 }
 
+/// A stage prim read at a frame: `points` at its `frame`-th time sample (clamped to the last),
+/// everything else as [`Prim`] reads it.
+pub(super) struct AtFrame<'p> {
+    pub(super) prim: &'p Prim,
+    pub(super) frame: u32,
+}
+
+impl Attrs for AtFrame<'_> {
+    fn prim_path(&self) -> &str {
+        self.prim.prim_path()
+    }
+
+    fn value(&self, name: &str) -> Result<Option<Value>, HairError> {
+        if self.frame == 0 || name != "points" {
+            return self.prim.value(name);
+        }
+        let attr = self.prim.attribute(name);
+        let where_ = || format!("{}.{name}", self.prim.path().as_str());
+        let times = attr
+            .time_sample_times()
+            .map_err(|e| err(format!("{}: {e:#}", where_())))?;
+        match times.get((self.frame as usize).min(times.len().max(1) - 1)) {
+            Some(&t) => attr
+                .get_at::<Value>(TimeCode::new(t))
+                .map_err(|e| err(format!("{}: {e:#}", where_()))),
+            None => self.prim.value(name),
+        }
+    }
+
+    fn interpolation(&self, name: &str) -> Option<Value> {
+        self.prim.interpolation(name)
+    }
+}
+
 impl Attrs for Prim {
     fn prim_path(&self) -> &str {
         self.path().as_str()

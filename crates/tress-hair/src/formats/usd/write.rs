@@ -26,6 +26,51 @@ fn vec3f(v: glam::Vec3) -> gf::Vec3f {
 
 /// The asset as a USD layer with one prim `/Hair` (linear `BasisCurves`).
 pub fn write_usd(asset: &HairAsset, flavor: UsdFlavor) -> Result<Vec<u8>, HairError> {
+    write_usd_frames(asset, None, flavor)
+}
+
+/// An animated cache: the asset (its counts, widths, colours) with `points` time-sampled, one
+/// sample a frame at time codes 1, 2, … (`frames`, each as many vertices as the asset), and
+/// the layer's `timeCodesPerSecond` and `framesPerSecond` set to `fps` and its start and end
+/// time codes to the first and last frame.
+pub fn write_usd_animated(
+    asset: &HairAsset,
+    frames: &[Vec<glam::Vec3>],
+    fps: f64,
+    flavor: UsdFlavor,
+) -> Result<Vec<u8>, HairError> {
+    write_usd_frames(asset, Some((frames, fps)), flavor)
+}
+
+fn points(p: &[glam::Vec3]) -> Value {
+    Value::Vec3fVec(p.iter().map(|&p| vec3f(p)).collect())
+}
+
+fn write_usd_frames(
+    asset: &HairAsset,
+    animation: Option<(&[Vec<glam::Vec3>], f64)>,
+    flavor: UsdFlavor,
+) -> Result<Vec<u8>, HairError> {
+    if let Some((frames, fps)) = animation {
+        if frames.is_empty() {
+            return Err(err("an animated cache needs at least one frame"));
+        }
+        if !(fps.is_finite() && fps > 0.0) {
+            return Err(err(format!(
+                "frames per second must be positive, not {fps}"
+            )));
+        }
+        if let Some(k) = frames
+            .iter()
+            .position(|f| f.len() != asset.positions().len())
+        {
+            return Err(err(format!(
+                "frame {k} has {} points, the hair {}",
+                frames[k].len(),
+                asset.positions().len()
+            )));
+        }
+    }
     let counts = asset
         .vertex_counts()
         .map(i32::try_from)
@@ -39,6 +84,12 @@ pub fn write_usd(asset: &HairAsset, flavor: UsdFlavor) -> Result<Vec<u8>, HairEr
     );
     root.add(FieldKey::DefaultPrim, Value::Token("Hair".into()));
     root.add("upAxis", Value::Token("Y".into()));
+    if let Some((frames, fps)) = animation {
+        root.add(FieldKey::TimeCodesPerSecond, Value::Double(fps));
+        root.add(FieldKey::FramesPerSecond, Value::Double(fps));
+        root.add(FieldKey::StartTimeCode, Value::Double(1.0));
+        root.add(FieldKey::EndTimeCode, Value::Double(frames.len() as f64));
+    }
 
     let hair = sdf::path("/Hair").map_err(|e| err(format!("{e:#}")))?;
     let mut props: Vec<(&str, &str, Value, Option<&str>, bool)> = vec![
@@ -52,7 +103,7 @@ pub fn write_usd(asset: &HairAsset, flavor: UsdFlavor) -> Result<Vec<u8>, HairEr
         (
             "points",
             "point3f[]",
-            Value::Vec3fVec(asset.positions().iter().map(|&p| vec3f(p)).collect()),
+            points(asset.positions()),
             None,
             false,
         ),
@@ -104,7 +155,17 @@ pub fn write_usd(asset: &HairAsset, flavor: UsdFlavor) -> Result<Vec<u8>, HairEr
             .map_err(|e| err(format!("{e:#}")))?;
         let attr = data.create_spec(path, SpecType::Attribute);
         attr.add(FieldKey::TypeName, Value::Token(type_name.into()));
-        attr.add(FieldKey::Default, value);
+        match animation {
+            Some((frames, _)) if name == "points" => {
+                let samples = frames
+                    .iter()
+                    .enumerate()
+                    .map(|(k, f)| ((k + 1) as f64, points(f)))
+                    .collect();
+                attr.add(FieldKey::TimeSamples, Value::TimeSamples(samples));
+            }
+            _ => attr.add(FieldKey::Default, value),
+        }
         if uniform {
             attr.add(
                 FieldKey::Variability,
