@@ -29,10 +29,15 @@ pub const TARGETS: &[(&str, Check)] = &[
     ("read_usd", read_usd_check),
 ];
 
-/// Alembic Ogawa curves: `tress_alembic::read`, then tress's curves.
+/// Alembic Ogawa curves: `tress_alembic::read`, then tress's curves at a frame the input's
+/// length picks (an animated cache's later samples; a still file's one).
 pub fn read_abc_check(data: &[u8]) {
     let _ = tress_alembic::read(data);
-    let _ = read_abc(data, &ReadOptions { cubic_segments: 2 });
+    let options = ReadOptions {
+        cubic_segments: 2,
+        frame: data.len() as u32 % 3,
+    };
+    let _ = read_abc(data, &options);
 }
 
 /// CT2Hair `.bin`.
@@ -131,7 +136,11 @@ pub fn usd_flavour(data: &[u8]) -> Option<(&'static str, &[u8])> {
 /// byte picks the flavour ([`usd_flavour`]), the rest is the file.
 pub fn read_usd_check(data: &[u8]) {
     if let Some((ext, file)) = usd_flavour(data) {
-        let _ = read_usd_bytes(file, ext, &ReadOptions { cubic_segments: 2 });
+        let options = ReadOptions {
+            cubic_segments: 2,
+            frame: data.len() as u32 % 3,
+        };
+        let _ = read_usd_bytes(file, ext, &options);
     }
 }
 

@@ -37,6 +37,9 @@ enum Command {
     BakeAo(cmd::bake_ao::Args),
     /// Render a scene (`.toml`), hair files, or the built-in demo to PNG or EXR.
     Render(cmd::render::Args),
+    /// Simulate the hair (GPU, the head moving) and write the frames as an animated cache
+    /// (`.abc`, `.usda`, `.usdc`) that DCC tools and `tress render --frame K` play.
+    Simulate(cmd::simulate::Args),
     /// The split image of the hybrid paper's Figure 1: strands left, volume right, the LOD
     /// transition between; mean FLIP and timings of both, optionally over a distance sweep.
     Compare(cmd::compare::Args),
@@ -61,6 +64,7 @@ fn main() -> ExitCode {
         Command::Cards(a) => cmd::cards::run(a),
         Command::BakeAo(a) => cmd::bake_ao::run(a),
         Command::Render(a) => cmd::render::run(a),
+        Command::Simulate(a) => cmd::simulate::run(a),
         Command::Compare(a) => cmd::compare::run(a),
         Command::SatfBake(a) => cmd::satf_bake::run(a),
         Command::View(a) => cmd::view::run(a),

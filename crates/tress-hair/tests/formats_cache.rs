@@ -51,7 +51,10 @@ fn every_frame_of_every_cache_format_reads_back() {
     let e = write_cache_path(&dir.join("cache.hair"), &a, &f, 30.0)
         .unwrap_err()
         .to_string();
-    assert!(e.contains("cache.hair") && e.contains("holds no animation"), "{e}");
+    assert!(
+        e.contains("cache.hair") && e.contains("holds no animation"),
+        "{e}"
+    );
     let short = vec![f[0][..5].to_vec()];
     let e = write_cache_path(&dir.join("bad.abc"), &a, &short, 30.0)
         .unwrap_err()

@@ -112,3 +112,40 @@ fn patches_and_satf_refuse_simulation_and_say_what_draws_it() {
         .to_string();
     assert!(e.contains("strands, volume, hybrid and auto"), "{e}");
 }
+
+#[test]
+fn a_cache_of_the_simulated_frames_reads_back_as_simulated() {
+    let Some(ctx) = common::gpu() else { return };
+    let asset = hair();
+    let mut s = session(&ctx, &asset);
+    let settings = SimSettings {
+        guides: 0.25,
+        ..SimSettings::default()
+    };
+    let motion = MotionSpec::preset(tress_sim::Preset::Turn);
+    s.start_simulation(&ctx, settings, motion).unwrap();
+    let frames: Vec<Vec<Vec3>> = (0..5)
+        .map(|k| {
+            s.simulate_to(&ctx, f64::from(k) / 24.0, false).unwrap();
+            s.read_hair_positions(&ctx).unwrap()
+        })
+        .collect();
+    assert_ne!(frames[0], frames[4], "the hair moved");
+    let dir = std::env::temp_dir().join(format!("tress-sim-cache-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for ext in ["abc", "usdc", "usda"] {
+        let path = dir.join(format!("cache.{ext}"));
+        tress_hair::formats::write_cache_path(&path, &asset, &frames, 24.0).unwrap();
+        for (k, want) in frames.iter().enumerate() {
+            let options = tress_hair::formats::ReadOptions {
+                frame: k as u32,
+                ..Default::default()
+            };
+            let got = tress_hair::formats::load_path(&path, &options)
+                .unwrap()
+                .asset;
+            assert_eq!(got.positions(), &want[..], "{ext} frame {k}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

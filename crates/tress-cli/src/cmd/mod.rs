@@ -16,4 +16,5 @@ pub(crate) mod render;
 pub(crate) mod render_satf;
 pub(crate) mod report;
 pub(crate) mod satf_bake;
+pub(crate) mod simulate;
 pub(crate) mod view;

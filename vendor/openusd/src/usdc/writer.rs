@@ -115,13 +115,20 @@ impl<'w, W: Write + Seek> Packer<'w, W> {
             if let Some(field_names) = data.list_fields(path) {
                 for name in field_names {
                     let value = data.get_field(path, &name)?.into_owned();
+                    let children = is_children_field(&name);
                     let token = if name == crate::sdf::ChildrenKey::PropertyChildren.as_str() {
                         super::CRATE_PROPERTY_CHILDREN.to_owned()
                     } else {
                         name
                     };
                     let token_idx = self.tokens.intern(token);
-                    let rep = self.write_value(&value)?;
+                    // tress patch: children lists are `std::vector<TfToken>` (TokenVector) in
+                    // Pixar's crate files, not token arrays; Pixar's USD ignores a token array
+                    // there, so a written layer showed no prims or properties.
+                    let rep = match &value {
+                        Value::TokenVec(v) if children => self.write_token_vector(v)?,
+                        _ => self.write_value(&value)?,
+                    };
                     let field_idx = self.fields.intern((token_idx, rep.0));
                     self.fieldsets.push(Some(field_idx));
                 }
@@ -788,6 +795,18 @@ impl<'w, W: Write + Seek> Packer<'w, W> {
         Ok(rep_heap(ty, off, true))
     }
 
+    /// tress patch: a `std::vector<TfToken>` (TokenVector): the same count and token indices
+    /// as a token array, typed as a vector, not an array.
+    fn write_token_vector(&mut self, v: &[tf::Token]) -> Result<ValueRep> {
+        let off = self.pos()?;
+        self.write_count(v.len() as u64)?;
+        for t in v {
+            let idx = self.tokens.intern(t.to_string());
+            self.write_pod(&idx)?;
+        }
+        Ok(rep_heap(Type::TokenVector, off, false))
+    }
+
     fn write_token_vec(&mut self, ty: Type, v: &[tf::Token]) -> Result<ValueRep> {
         let off = self.pos()?;
         // Token arrays: just write the indices (no inner count for the
@@ -1133,4 +1152,17 @@ fn lz4_compress_single_chunk(input: &[u8]) -> Vec<u8> {
     out.push(0_u8);
     out.extend_from_slice(&lz4_flex::compress(input));
     out
+}
+
+/// tress patch: the fields whose values Pixar's crate format stores as TokenVector.
+fn is_children_field(name: &str) -> bool {
+    use crate::sdf::ChildrenKey;
+    [
+        ChildrenKey::PrimChildren,
+        ChildrenKey::PropertyChildren,
+        ChildrenKey::VariantChildren,
+        ChildrenKey::VariantSetChildren,
+    ]
+    .iter()
+    .any(|k| k.as_str() == name)
 }
