@@ -465,3 +465,47 @@ fn distance_sweep_scores_every_technique_against_the_strands() {
     assert_eq!(flip("hybrid", "1"), 0.0);
     assert!(flip("volume", "1") > 0.05);
 }
+
+#[test]
+fn the_simulation_sweep_times_more_guides_against_the_strand_frame() {
+    if skip_gpu() {
+        eprintln!("skipped on purpose: TRESS_SKIP_GPU_TESTS=1");
+        return;
+    }
+    let dir = tmp("bench-sim");
+    let out = tress(&[
+        "bench",
+        "--quick",
+        "--sweep",
+        "simulation",
+        "--width",
+        "160",
+        "--height",
+        "90",
+        "--frames",
+        "2",
+        "-o",
+        dir.to_str().unwrap(),
+    ]);
+    assert_gpu_success(&out);
+    let rows = csv_rows(&dir.join("simulation.csv"));
+    assert_eq!(rows.len(), 2, "two quick points");
+    let num = |r: &Vec<String>, i: usize| r[i].parse::<f64>().unwrap();
+    for r in &rows {
+        assert_eq!(r[0], "simulation");
+        // About the guides asked for (every stride-th strand), every strand drawn.
+        let (target, guides, strands) = (num(r, 1), num(r, 2), num(r, 3));
+        assert!(
+            (guides - target).abs() <= 0.15 * target,
+            "{guides} guides for {target}"
+        );
+        assert!(strands > guides);
+        let (sim, frame, share) = (num(r, 5), num(r, 7), num(r, 9));
+        assert!(sim > 0.0 && frame > 0.0);
+        assert!((share - 100.0 * sim / frame).abs() < 0.01, "share {share}");
+    }
+    // More guides, more memory.
+    assert!(num(&rows[1], 10) > num(&rows[0], 10));
+    let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    assert!(summary.contains("## simulation"), "{summary}");
+}

@@ -15,6 +15,7 @@ mod measure;
 mod quality;
 mod report;
 mod silhouette;
+mod simulation;
 mod sweeps;
 
 use std::path::PathBuf;
@@ -49,7 +50,7 @@ pub(crate) struct Args {
     #[arg(long)]
     quick: bool,
     /// Run only these sweeps (repeatable): distance, strands, steps, resolution, k, patches,
-    /// oit, characters.
+    /// oit, characters, simulation.
     #[arg(long = "sweep", value_name = "NAME")]
     sweeps: Vec<String>,
     /// Measure image quality against the CPU reference instead of speed (see `--spp`).
@@ -218,7 +219,16 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let info = &run.ctx.adapter_info;
     let targets = OffscreenTargets::new(&run.ctx, size, COLOR_FORMAT)?;
     let mut done = Vec::new();
+    let (mut extra_summary, mut extra_points) = (String::new(), 0);
     for sw in plan {
+        if sw.name == "simulation" {
+            let mut session = run.session()?;
+            let (rows, frame_ms, source) =
+                simulation::run_sweep(&run, &mut session, &sw, &targets, warmup, frames)?;
+            extra_summary += &simulation::write(&run, &rows, frame_ms, source)?;
+            extra_points += rows.len();
+            continue;
+        }
         let mut rows = Vec::new();
         let mut frames_kept = Vec::new();
         let mut exact = None;
@@ -339,7 +349,11 @@ pub(crate) fn run(args: Args) -> Result<()> {
         frames,
         quick: args.quick,
     };
-    report::write(&run.dir, "summary.md", &report::markdown(&header, &done))?;
+    report::write(
+        &run.dir,
+        "summary.md",
+        &(report::markdown(&header, &done) + &extra_summary),
+    )?;
     for (sw, rows, _) in &done {
         if sw.name == "oit" {
             for r in rows.iter().filter(|r| r.result.is_ok()) {
@@ -369,9 +383,9 @@ pub(crate) fn run(args: Args) -> Result<()> {
         .count();
     println!(
         "wrote {} sweeps into {} ({} points, {failed} failed) on {}",
-        done.len(),
+        done.len() + usize::from(!extra_summary.is_empty()),
         run.dir.display(),
-        done.iter().map(|d| d.1.len()).sum::<usize>(),
+        done.iter().map(|d| d.1.len()).sum::<usize>() + extra_points,
         info.name
     );
     Ok(())

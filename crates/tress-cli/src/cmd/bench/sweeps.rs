@@ -10,6 +10,7 @@
 //! | `patches`    | 3-pass vs 4-pass                | patches                      | Scheuermann slides |
 //! | `oit`        | k, PPLL vs ShortCut             | strands (two OITs)           | beyond: TressFX 4.1 |
 //! | `characters` | characters 1 → 16, spread in depth | every character as strands, `auto` | §1's claim |
+//! | `simulation` | guides simulated 1k → 50k (followers: every other strand) | strands, simulated | beyond: TressFX, Frostbite |
 //!
 //! The `distance` sweep scores every technique's frame (its CSV `flip` column) by mean FLIP
 //! against the strand rasterizer's frame at the same distance, over the pixels either frame's
@@ -25,6 +26,11 @@
 //! ([`super::crowd`]): every character as strands, and each with `auto` (strands near, volume
 //! far). Its summary says how many characters each mode fits in the time the strands need for
 //! two: the paper's "twice the number of game characters … for the same time budget".
+//!
+//! The `simulation` sweep simulates the scene's hair with more and more of its strands as
+//! guides (the rest followers rebuilt from them every step), the head turning, and reports the
+//! simulation's time per frame, its share of the strands' frame time, and its memory
+//! ([`super::simulation`]).
 
 use anyhow::{Result, bail};
 use tress_scene::Scene;
@@ -83,7 +89,7 @@ fn techniques(names: &[&'static str]) -> Vec<SeriesSpec> {
 }
 
 /// Every sweep's name, in the order they run.
-pub(crate) const SWEEPS: [&str; 8] = [
+pub(crate) const SWEEPS: [&str; 9] = [
     "distance",
     "strands",
     "steps",
@@ -92,6 +98,7 @@ pub(crate) const SWEEPS: [&str; 8] = [
     "patches",
     "oit",
     "characters",
+    "simulation",
 ];
 
 /// The `oit` sweep's reference: the PPLL frame (at the paper's k) whose lists are sorted
@@ -258,6 +265,22 @@ pub(crate) fn sweep(name: &str, quick: bool, scene: &Scene) -> Result<Sweep> {
                         characters: Some(n as u32),
                         ..point(n, Vec::new())
                     })
+                    .collect(),
+            }
+        }
+        "simulation" => {
+            if scene.hair.is_empty() {
+                bail!("the simulation sweep needs hair in the scene");
+            }
+            Sweep {
+                name: "simulation",
+                title: "Simulation time per frame by guides simulated",
+                x_label: "guides simulated (every other strand follows them)",
+                log_x: true,
+                series: techniques(&["strands"]),
+                points: pick(&[1000.0, 5000.0, 10000.0, 50000.0], &[256.0, 1024.0])
+                    .into_iter()
+                    .map(|g| point(g, Vec::new()))
                     .collect(),
             }
         }
