@@ -177,6 +177,22 @@ fn a_simulation_cache_is_written_and_plays_back_a_frame_at_a_time() {
         v["cache_bytes"].as_u64().unwrap(),
         std::fs::metadata(&cache).unwrap().len()
     );
+    // Each simulation pass's GPU time, where the device has timestamps (lavapipe has).
+    if let Some(total) = v["simulate_gpu_ms_mean"].as_f64() {
+        let passes = v["passes"].as_array().unwrap();
+        let names: Vec<&str> = passes.iter().map(|p| p["name"].as_str().unwrap()).collect();
+        assert_eq!(
+            names,
+            ["sim/integrate", "sim/grid", "sim/constraints", "sim/output"]
+        );
+        let sum: f64 = passes.iter().map(|p| p["gpu_ms"].as_f64().unwrap()).sum();
+        assert!(
+            (sum - total).abs() < 1e-6 && total > 0.0,
+            "{sum} vs {total}"
+        );
+    } else {
+        assert_eq!(v["passes"].as_array().unwrap().len(), 0);
+    }
     // Read back a frame at a time: the strands all there, the hair moving.
     let at = |k: u32| {
         let options = tress_hair::formats::ReadOptions {

@@ -139,11 +139,11 @@ fn a_teleport_on_the_gpu_moves_the_hair_as_on_the_cpu() {
 }
 
 #[test]
-fn two_gpu_runs_are_byte_identical() {
+fn two_gpu_runs_are_byte_identical_timed_or_not() {
     let Some(ctx) = common::gpu() else { return };
     let (asset, mesh) = groom();
     let s = settings();
-    let run = || {
+    let run = |timed: bool| {
         let sim = Simulation::new(
             &asset,
             Some(&mesh),
@@ -153,10 +153,31 @@ fn two_gpu_runs_are_byte_identical() {
         )
         .unwrap();
         let mut gpu = GpuSimulation::new(&ctx, sim).unwrap();
+        gpu.set_timing(&ctx, timed);
         gpu.advance_to(&ctx, 0.25, motion()).unwrap();
         let geometry = StrandGeometry::new(&ctx, &asset).unwrap();
         gpu.write_positions(&ctx, &geometry).unwrap();
-        read_whole_buffer(&ctx, geometry.vertex_buffer(), "test/vertices").unwrap()
+        let timings = gpu.take_timings();
+        (
+            read_whole_buffer(&ctx, geometry.vertex_buffer(), "test/vertices").unwrap(),
+            timings,
+        )
     };
-    assert_eq!(run(), run());
+    let (a, untimed) = run(false);
+    assert_eq!(untimed, tress_render::Timings::NotSupported);
+    // Timing the passes changes nothing in the result.
+    let (b, timed) = run(true);
+    assert_eq!(a, b);
+    match timed {
+        tress_render::Timings::Passes(p) => {
+            assert!(ctx.caps.timestamps);
+            let names: Vec<&str> = p.iter().map(|t| t.name).collect();
+            assert_eq!(names, tress_render::sim::SIM_PASS_NAMES);
+            // Every pass ran (the grid too: hair friction and volume are on) and took time.
+            for t in &p {
+                assert!(t.ms > 0.0 && t.ms < 1e4, "{}: {} ms", t.name, t.ms);
+            }
+        }
+        tress_render::Timings::NotSupported => assert!(!ctx.caps.timestamps),
+    }
 }

@@ -74,6 +74,9 @@ struct SimulationReport {
     /// Milliseconds from recording the frame's steps to the GPU finishing them and writing the
     /// hair into the vertex buffers.
     wall_ms: Option<f64>,
+    /// The simulation's GPU time for the frame (its passes' sum), where the device has
+    /// timestamps.
+    gpu_ms: Option<f64>,
     /// GPU memory of the simulation.
     bytes: u64,
 }
@@ -147,6 +150,7 @@ pub(crate) fn run(
                 guides,
                 strands,
                 wall_ms: f.wall_ms,
+                gpu_ms: f.gpu.total_ms(),
                 bytes: sim.bytes(),
             });
         }

@@ -41,6 +41,13 @@ pub(crate) struct Args {
     json: bool,
 }
 
+/// One simulation pass's mean GPU time a frame.
+#[derive(Serialize)]
+struct PassReport {
+    name: &'static str,
+    gpu_ms: f64,
+}
+
 /// What `--json` prints.
 #[derive(Serialize)]
 struct SimulateReport {
@@ -59,6 +66,12 @@ struct SimulateReport {
     /// Wall time of the simulation (GPU steps, waited for) per frame, mean and worst, ms.
     simulate_ms_mean: f64,
     simulate_ms_max: f64,
+    /// GPU time of the simulation per frame (the sum of `passes`), ms; absent without GPU
+    /// timestamps.
+    simulate_gpu_ms_mean: Option<f64>,
+    /// Each simulation pass's GPU time per frame (mean over the frames), ms: `sim/integrate`,
+    /// `sim/grid`, `sim/constraints`, `sim/output`. Empty without GPU timestamps.
+    passes: Vec<PassReport>,
     /// Wall time of reading every frame back and of writing the cache, ms.
     readback_ms: f64,
     write_ms: f64,
@@ -115,12 +128,21 @@ pub(crate) fn run(args: Args) -> Result<()> {
     let pb = progress::bar(u64::from(args.frames), "simulating");
     let mut frames = Vec::with_capacity(args.frames as usize);
     let (mut steps, mut sim_ms, mut sim_max, mut readback_ms) = (0u64, 0.0f64, 0.0f64, 0.0f64);
+    let mut gpu: Option<Vec<(&'static str, f64)>> = None;
     for k in 0..args.frames {
         let f = session.simulate_to(&ctx, f64::from(k) / args.fps, true)?;
         steps += f.steps;
         let ms = f.wall_ms.unwrap_or(0.0);
         sim_ms += ms;
         sim_max = sim_max.max(ms);
+        if let tress_render::Timings::Passes(p) = &f.gpu {
+            let sums = gpu.get_or_insert_with(|| p.iter().map(|t| (t.name, 0.0)).collect());
+            for t in p {
+                if let Some(s) = sums.iter_mut().find(|s| s.0 == t.name) {
+                    s.1 += t.ms;
+                }
+            }
+        }
         let t = std::time::Instant::now();
         let p = session.read_hair_positions(&ctx)?;
         readback_ms += t.elapsed().as_secs_f64() * 1e3;
@@ -153,6 +175,17 @@ pub(crate) fn run(args: Args) -> Result<()> {
         substeps: settings.substeps,
         simulate_ms_mean: sim_ms / f64::from(args.frames),
         simulate_ms_max: sim_max,
+        simulate_gpu_ms_mean: gpu
+            .as_ref()
+            .map(|g| g.iter().map(|p| p.1).sum::<f64>() / f64::from(args.frames)),
+        passes: gpu
+            .unwrap_or_default()
+            .into_iter()
+            .map(|(name, ms)| PassReport {
+                name,
+                gpu_ms: ms / f64::from(args.frames),
+            })
+            .collect(),
         readback_ms,
         write_ms,
         simulation_bytes: sim.bytes(),
@@ -163,7 +196,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
     } else {
         println!(
             "wrote {} ({} frames at {} fps: {} strands from {} guides, {} steps; {:.2} ms a frame \
-             simulating, {:.1} MB)",
+             simulating{}, {:.1} MB)",
             report.output,
             report.frames,
             report.fps,
@@ -171,6 +204,9 @@ pub(crate) fn run(args: Args) -> Result<()> {
             report.guides,
             report.steps,
             report.simulate_ms_mean,
+            report
+                .simulate_gpu_ms_mean
+                .map_or(String::new(), |g| format!(" ({g:.2} ms on the GPU)")),
             report.cache_bytes as f64 / 1e6
         );
     }

@@ -47,7 +47,7 @@ pub struct SessionSimulation {
 }
 
 /// What [`Session::simulate_to`] did.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct SimulationFrame {
     /// Steps run by this call (every character).
     pub steps: u64,
@@ -56,6 +56,10 @@ pub struct SimulationFrame {
     /// Milliseconds from the first step's recording to the GPU's end of the last (the GPU's
     /// time on a device that runs nothing else), when measured.
     pub wall_ms: Option<f64>,
+    /// When measured on a device with timestamp queries: each simulation pass's GPU time
+    /// (`sim/integrate`, `sim/grid`, `sim/constraints`, `sim/output`), summed over this call's
+    /// substeps and characters; else `NotSupported`.
+    pub gpu: crate::Timings,
 }
 
 impl SessionSimulation {
@@ -72,6 +76,14 @@ impl SessionSimulation {
     /// Simulated seconds.
     pub fn time(&self) -> f64 {
         self.time
+    }
+
+    /// The point each character's head turns about (the motion's pivot, else the centre of the
+    /// head triangles near its hair, else of its roots), a character each: what an application
+    /// driving [`Session::simulate_to_with`] needs to move the head as [`Session::simulate_to`]
+    /// would.
+    pub fn pivots(&self) -> impl Iterator<Item = Vec3> + '_ {
+        self.characters.iter().map(|c| c.pivot)
     }
 
     /// Guides and strands simulated (all characters).
@@ -316,14 +328,17 @@ impl Session {
             .ok_or_else(|| invalid("the strand renderer is not prepared"))?;
         let start = Instant::now();
         let mut steps = 0;
+        let mut gpu = crate::Timings::NotSupported;
         for (k, (c, geometry)) in sim
             .characters
             .iter_mut()
             .zip(strands.hair.iter_mut())
             .enumerate()
         {
+            c.gpu.set_timing(ctx, measure);
             steps += c.gpu.advance_to(ctx, t, |time| head(k, time))?;
             c.gpu.write_positions(ctx, geometry)?;
+            gpu = sum_timings(gpu, c.gpu.take_timings());
             let head = c.gpu.simulation().head();
             geometry.bounds = (head.apply(c.rest_bounds.0), c.rest_bounds.1 + 0.5 * c.reach);
         }
@@ -355,6 +370,25 @@ impl Session {
             steps,
             time: t,
             wall_ms,
+            gpu,
         })
+    }
+}
+
+/// Two characters' pass times added pass by pass (`NotSupported` is none yet).
+fn sum_timings(a: crate::Timings, b: crate::Timings) -> crate::Timings {
+    use crate::Timings::{NotSupported, Passes};
+    match (a, b) {
+        (NotSupported, b) => b,
+        (a, NotSupported) => a,
+        (Passes(mut a), Passes(b)) => {
+            for p in b {
+                match a.iter_mut().find(|q| q.name == p.name) {
+                    Some(q) => q.ms += p.ms,
+                    None => a.push(p),
+                }
+            }
+            Passes(a)
+        }
     }
 }

@@ -18,6 +18,15 @@
 //! dynamic offset, so a frame's steps are recorded into one encoder. A teleport moves the state
 //! rigidly first (`teleport`). A frame then runs `sim_output.wgsl`: each guide segment's frame,
 //! the guides' positions, and the followers rebuilt from them.
+//!
+//! # Timing
+//!
+//! With [`GpuSimulation::set_timing`] on (and a device with timestamp queries), a substep runs
+//! as three compute passes, `sim/integrate` (shock propagation and integration), `sim/grid` (the
+//! hair–hair grid) and `sim/constraints` (constraints, collisions, friction), and the output as
+//! `sim/output`, each writing GPU timestamps; every submission's are resolved, read back and
+//! summed over its substeps ([`GpuSimulation::take_timings`]). The substep's passes are the same
+//! with timing off; only the timestamps and the readback are skipped.
 
 mod buffers;
 mod sim_output;
@@ -27,7 +36,12 @@ use glam::Vec3;
 use tress_sim::{Rigid, Simulation};
 
 use crate::gpu::types::{RigidGpu, SimOutputParams, SimParams};
+use crate::gpu::{GpuTimer, PassTiming, Timings, read_whole_buffer};
 use crate::{GpuContext, RenderError, StrandGeometry};
+
+/// The simulation's timed passes, in the order a step runs them.
+pub const SIM_PASS_NAMES: [&str; 4] =
+    ["sim/integrate", "sim/grid", "sim/constraints", "sim/output"];
 
 pub(crate) use buffers::SimBuffers;
 use sim_output::SimOutput;
@@ -51,6 +65,10 @@ pub struct GpuSimulation {
     buffers: SimBuffers,
     /// Which position buffer is the current one.
     phase: usize,
+    /// Timestamps (a slot a substep of a submission) and their readback copy, while timing.
+    timer: Option<(GpuTimer, wgpu::Buffer)>,
+    /// GPU milliseconds a pass, summed since the last [`GpuSimulation::take_timings`].
+    timed: Vec<f64>,
 }
 
 impl GpuSimulation {
@@ -75,7 +93,66 @@ impl GpuSimulation {
             output,
             buffers,
             phase: 0,
+            timer: None,
+            timed: vec![0.0; SIM_PASS_NAMES.len()],
         })
+    }
+
+    /// Time the passes with GPU timestamps from now on (on a device that has them), or stop.
+    pub fn set_timing(&mut self, ctx: &GpuContext, on: bool) {
+        if !on || !ctx.caps.timestamps {
+            self.timer = None;
+            return;
+        }
+        if self.timer.is_none() {
+            let timer = GpuTimer::with_objects(ctx, "sim/timer", &SIM_PASS_NAMES, UNIFORM_SLOTS);
+            let copy = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("sim/timer/copy"),
+                size: timer.resolved_bytes(),
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            self.timer = Some((timer, copy));
+        }
+    }
+
+    /// The GPU time of each pass since the last call (summed over its substeps and
+    /// submissions), or `NotSupported` when the passes were not timed.
+    pub fn take_timings(&mut self) -> Timings {
+        if self.timer.is_none() {
+            return Timings::NotSupported;
+        }
+        let passes = SIM_PASS_NAMES
+            .iter()
+            .zip(&self.timed)
+            .map(|(name, &ms)| PassTiming { name, ms })
+            .collect();
+        self.timed.fill(0.0);
+        Timings::Passes(passes)
+    }
+
+    /// Submit `encoder`; while timing, resolve its timestamps first and add them up.
+    fn submit_timed(
+        &mut self,
+        ctx: &GpuContext,
+        mut encoder: wgpu::CommandEncoder,
+    ) -> Result<(), RenderError> {
+        let Some((timer, copy)) = &self.timer else {
+            ctx.queue.submit([encoder.finish()]);
+            return Ok(());
+        };
+        timer.resolve(&mut encoder, copy, 0);
+        ctx.queue.submit([encoder.finish()]);
+        let bytes = read_whole_buffer(ctx, copy, "sim/timer/readback")?;
+        if let Timings::Passes(passes) = timer.parse(&bytes, &timer.written()) {
+            for p in passes {
+                if let Some(i) = SIM_PASS_NAMES.iter().position(|n| *n == p.name) {
+                    self.timed[i] += p.ms;
+                }
+            }
+        }
+        timer.begin_frame(ctx)?;
+        Ok(())
     }
 
     /// The CPU side: settings, clock, head.
@@ -131,7 +208,7 @@ impl GpuSimulation {
         for &head in heads {
             let (subs, teleport) = self.cpu.substeps_of(head);
             if pending.len() + subs.len() > UNIFORM_SLOTS {
-                self.submit(ctx, encoder, &pending);
+                self.submit(ctx, encoder, &pending)?;
                 pending.clear();
                 recorded = 0;
                 encoder = ctx
@@ -142,7 +219,7 @@ impl GpuSimulation {
             }
             if teleport {
                 // Teleports are rare: submit what is recorded, then move the state rigidly.
-                self.submit(ctx, encoder, &pending);
+                self.submit(ctx, encoder, &pending)?;
                 pending.clear();
                 recorded = 0;
                 let delta = head.then(&self.cpu.head().inverse());
@@ -157,19 +234,28 @@ impl GpuSimulation {
                 let params = self.buffers.params(self.cpu.settings(), sub);
                 let slot = pending.len();
                 pending.push(params);
-                self.step
-                    .encode(&mut encoder, &self.buffers, self.phase, slot, &params);
+                self.step.encode(
+                    &mut encoder,
+                    &self.buffers,
+                    (self.phase, slot),
+                    &params,
+                    self.timer.as_ref().map(|t| &t.0),
+                );
                 self.phase = (self.phase + 1) % 3;
                 recorded += 1;
             }
             self.cpu.advance_clock(head);
         }
         let _ = recorded;
-        self.submit(ctx, encoder, &pending);
-        Ok(())
+        self.submit(ctx, encoder, &pending)
     }
 
-    fn submit(&self, ctx: &GpuContext, encoder: wgpu::CommandEncoder, params: &[SimParams]) {
+    fn submit(
+        &mut self,
+        ctx: &GpuContext,
+        encoder: wgpu::CommandEncoder,
+        params: &[SimParams],
+    ) -> Result<(), RenderError> {
         if !params.is_empty() {
             ctx.queue.write_buffer(
                 &self.buffers.uniforms,
@@ -184,7 +270,7 @@ impl GpuSimulation {
                     .collect::<Vec<u8>>(),
             );
         }
-        ctx.queue.submit([encoder.finish()]);
+        self.submit_timed(ctx, encoder)
     }
 
     /// Move every position rigidly by `delta` (a teleport): read back, moved, written again.
@@ -230,10 +316,15 @@ impl GpuSimulation {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("sim/output/encoder"),
             });
-        self.output
-            .encode(ctx, &mut encoder, &self.buffers, self.phase, geometry);
-        ctx.queue.submit([encoder.finish()]);
-        Ok(())
+        self.output.encode(
+            ctx,
+            &mut encoder,
+            &self.buffers,
+            self.phase,
+            geometry,
+            self.timer.as_ref().map(|t| &t.0),
+        );
+        self.submit_timed(ctx, encoder)
     }
 
     /// The guides' positions now (read back: for tests and caches, not frames).

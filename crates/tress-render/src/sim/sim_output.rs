@@ -5,6 +5,7 @@ use std::sync::Mutex;
 
 use super::buffers::SimBuffers;
 use crate::bind::{bind_group_layout, storage, uniform};
+use crate::gpu::GpuTimer;
 use crate::gpu::pipeline::{compute_pipeline, pipeline_layout};
 use crate::volume::dispatch_2d;
 use crate::{GpuContext, RenderError, StrandGeometry, shaders};
@@ -106,6 +107,7 @@ impl SimOutput {
         b: &SimBuffers,
         phase: usize,
         geometry: &StrandGeometry,
+        timer: Option<&GpuTimer>,
     ) {
         let target = geometry.vertex_buffer();
         let mut groups = self.out_groups.lock().unwrap_or_else(|e| e.into_inner());
@@ -126,7 +128,7 @@ impl SimOutput {
             });
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("sim/output/pass"),
-            timestamp_writes: None,
+            timestamp_writes: timer.and_then(|t| t.compute_writes("sim/output", true, true)),
         });
         pass.set_bind_group(0, &*group, &[]);
         let (gx, gy) = dispatch_2d(b.guide_vertices, 64);

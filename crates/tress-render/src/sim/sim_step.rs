@@ -3,6 +3,7 @@
 use super::UNIFORM_STRIDE;
 use super::buffers::SimBuffers;
 use crate::bind::{bind_group_layout, entry, storage};
+use crate::gpu::GpuTimer;
 use crate::gpu::pipeline::{compute_pipeline, pipeline_layout};
 use crate::gpu::types::SimParams;
 use crate::volume::dispatch_2d;
@@ -127,18 +128,23 @@ impl SimStep {
 
     /// Record one substep whose uniforms are `params` in ring slot `slot`, the position buffers
     /// at turn `phase` (the caller advances it by one afterwards).
+    /// With a `timer`, the substep's three compute passes (`sim/integrate`, `sim/grid`,
+    /// `sim/constraints`) write their timestamps into object slot `slot`.
     pub(crate) fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         b: &SimBuffers,
-        phase: usize,
-        slot: usize,
+        (phase, slot): (usize, usize),
         params: &SimParams,
+        timer: Option<&GpuTimer>,
     ) {
         let offset = (slot as u64 * UNIFORM_STRIDE) as u32;
+        let writes = |name: &'static str| {
+            timer.and_then(|t| t.object_compute_writes(name, slot, true, true))
+        };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("sim/step/pass"),
-            timestamp_writes: None,
+            label: Some("sim/integrate"),
+            timestamp_writes: writes("sim/integrate"),
         });
         let (vx, vy) = dispatch_2d(b.guide_vertices, 64);
         let after = (phase + 1) % 3;
@@ -151,9 +157,14 @@ impl SimStep {
         pass.set_bind_group(0, &self.state[phase], &[offset]);
         pass.set_bind_group(1, &self.next[phase], &[]);
         pass.dispatch_workgroups(vx, vy, 1);
+        drop(pass);
         // From here the new positions are the current ones.
-        pass.set_bind_group(0, &self.state[after], &[offset]);
         if params.counts2[2] != 0 {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("sim/grid"),
+                timestamp_writes: writes("sim/grid"),
+            });
+            pass.set_bind_group(0, &self.state[after], &[offset]);
             pass.set_bind_group(1, &self.grid, &[]);
             let (nx, ny) = dispatch_2d(b.grid_nodes, 64);
             pass.set_pipeline(&self.grid_clear);
@@ -163,6 +174,11 @@ impl SimStep {
             pass.set_pipeline(&self.grid_apply);
             pass.dispatch_workgroups(vx, vy, 1);
         }
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("sim/constraints"),
+            timestamp_writes: writes("sim/constraints"),
+        });
+        pass.set_bind_group(0, &self.state[after], &[offset]);
         pass.set_bind_group(1, &self.colliders, &[]);
         let (sx, sy) = dispatch_2d(b.guides, 64);
         pass.set_pipeline(&self.constraints);

@@ -29,6 +29,9 @@ pub(crate) struct SimRow {
     /// Wall time of a frame's simulation step: mean and worst, ms.
     pub(crate) mean_ms: f64,
     pub(crate) max_ms: f64,
+    /// GPU time of a frame's simulation (its passes' sum), mean, ms: where the device has
+    /// timestamps.
+    pub(crate) gpu_ms: Option<f64>,
     pub(crate) bytes: u64,
 }
 
@@ -75,10 +78,12 @@ pub(crate) fn run_sweep(
             session.simulate_to(ctx, f64::from(step) / rate, true)?;
         }
         let mut times = Vec::with_capacity(frames as usize);
+        let mut gpu = Vec::with_capacity(frames as usize);
         for _ in 0..frames.max(1) {
             step += 1;
             let f = session.simulate_to(ctx, f64::from(step) / rate, true)?;
             times.push(f.wall_ms.unwrap_or(0.0));
+            gpu.extend(f.gpu.total_ms());
         }
         let sim = session.simulation().context("the simulation stopped")?;
         let (guides, strands) = sim.counts();
@@ -89,6 +94,7 @@ pub(crate) fn run_sweep(
             vertices,
             mean_ms: times.iter().sum::<f64>() / times.len() as f64,
             max_ms: times.iter().copied().fold(0.0, f64::max),
+            gpu_ms: (gpu.len() == times.len()).then(|| gpu.iter().sum::<f64>() / gpu.len() as f64),
             bytes: sim.bytes(),
         };
         eprintln!(
@@ -111,12 +117,12 @@ pub(crate) fn run_sweep(
 pub(crate) fn csv(rows: &[SimRow], frame_ms: f64, source: &str) -> String {
     let mut out = String::from(
         "sweep,guides_target,guides,strands,vertices,sim_ms_mean,sim_ms_max,strand_frame_ms,\
-         strand_frame_timing,share_pct,sim_bytes\n",
+         strand_frame_timing,share_pct,sim_bytes,sim_gpu_ms\n",
     );
     for r in rows {
         let _ = writeln!(
             out,
-            "simulation,{},{},{},{},{:.4},{:.4},{:.4},{source},{:.2},{}",
+            "simulation,{},{},{},{},{:.4},{:.4},{:.4},{source},{:.2},{},{}",
             r.target,
             r.guides,
             r.strands,
@@ -125,7 +131,8 @@ pub(crate) fn csv(rows: &[SimRow], frame_ms: f64, source: &str) -> String {
             r.max_ms,
             frame_ms,
             100.0 * r.mean_ms / frame_ms,
-            r.bytes
+            r.bytes,
+            r.gpu_ms.map_or(String::new(), |g| format!("{g:.4}"))
         );
     }
     out
@@ -137,17 +144,18 @@ pub(crate) fn markdown(rows: &[SimRow], frame_ms: f64, source: &str) -> String {
         "\n## simulation\n\nThe hair simulated with more and more guides (every other strand a \
          follower rebuilt from them each step), the head turning. Simulation: wall time a frame \
          with the GPU waited for; the strands' frame: {frame_ms:.2} ms ({source}).\n\n\
-         | guides | strands | simulation ms (mean / worst) | share of the strand frame | memory MiB |\n\
-         | ---: | ---: | ---: | ---: | ---: |\n"
+         | guides | strands | simulation ms (mean / worst) | of which GPU ms | share of the strand frame | memory MiB |\n\
+         | ---: | ---: | ---: | ---: | ---: | ---: |\n"
     );
     for r in rows {
         let _ = writeln!(
             out,
-            "| {} | {} | {:.2} / {:.2} | {:.1}% | {:.1} |",
+            "| {} | {} | {:.2} / {:.2} | {} | {:.1}% | {:.1} |",
             r.guides,
             r.strands,
             r.mean_ms,
             r.max_ms,
+            r.gpu_ms.map_or("-".to_string(), |g| format!("{g:.2}")),
             100.0 * r.mean_ms / frame_ms,
             r.bytes as f64 / f64::from(1 << 20)
         );
@@ -181,17 +189,18 @@ mod tests {
             vertices: 351_000,
             mean_ms: 0.5,
             max_ms: 0.7,
+            gpu_ms: Some(0.25),
             bytes: 3 << 20,
         };
         let csv = csv(std::slice::from_ref(&row), 10.0, "GPU timestamps");
         let line = csv.lines().nth(1).unwrap();
         assert_eq!(
             line,
-            "simulation,1000,998,27000,351000,0.5000,0.7000,10.0000,GPU timestamps,5.00,3145728"
+            "simulation,1000,998,27000,351000,0.5000,0.7000,10.0000,GPU timestamps,5.00,3145728,0.2500"
         );
         let md = markdown(&[row], 10.0, "GPU timestamps");
         assert!(
-            md.contains("| 998 | 27000 | 0.50 / 0.70 | 5.0% | 3.0 |"),
+            md.contains("| 998 | 27000 | 0.50 / 0.70 | 0.25 | 5.0% | 3.0 |"),
             "{md}"
         );
     }
