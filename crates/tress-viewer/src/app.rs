@@ -1,5 +1,6 @@
-//! The window's event loop: input to camera, keys and panel actions, then each frame rendered by
-//! the session into an offscreen target, copied onto the window and the panel drawn over it.
+//! The window's event loop: input to camera, head drag, keys and panel actions, then each frame
+//! the hair simulated (when on), rendered by the session into an offscreen target, copied onto
+//! the window and the panel drawn over it.
 
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
@@ -14,13 +15,14 @@ use tress_render::session::{DatabaseLoader, Session};
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::ActiveEventLoop;
-use winit::keyboard::{Key, NamedKey};
+use winit::keyboard::{Key, ModifiersState, NamedKey};
 use winit::window::{Window, WindowId};
 
 use crate::display::Display;
 use crate::orbit::OrbitCamera;
-use crate::panel::{Action, FrameInfo, PanelState};
+use crate::panel::{Action, FrameInfo, PanelState, SimFrameInfo};
 use crate::present::Presenter;
+use crate::sim_controls::{SimAction, SimControls};
 use crate::{ViewerOptions, ViewerReport};
 
 mod running;
@@ -137,6 +139,7 @@ impl ApplicationHandler for App {
                         "l" => Some(Some(Action::ToggleLights)),
                         "s" => Some(Some(Action::Screenshot)),
                         "r" => Some(Some(Action::Rebuild)),
+                        "p" => Some(Some(Action::Sim(SimAction::Pause(!run.sim.paused)))),
                         "u" => {
                             run.ui_visible = !run.ui_visible;
                             Some(None)
@@ -161,11 +164,15 @@ impl ApplicationHandler for App {
                     _ => {}
                 }
             }
+            WindowEvent::ModifiersChanged(m) => run.modifiers = m.state(),
             WindowEvent::CursorMoved { position, .. } => {
                 if let Some((x, y)) = run.mouse.position {
                     let (dx, dy) = ((position.x - x) as f32, (position.y - y) as f32);
                     if run.mouse.left {
-                        run.orbit.orbit(dx, dy);
+                        // Shift or Ctrl drags move the simulated head; plain drags orbit.
+                        if !run.drag_head(dx, dy) {
+                            run.orbit.orbit(dx, dy);
+                        }
                     } else if run.mouse.middle {
                         run.orbit.pan(dx, dy, run.display.size()[1]);
                     }
@@ -226,6 +233,16 @@ struct Running {
     /// `--set` overrides, applied to every scene opened.
     overrides: Vec<String>,
     loader: Option<SharedLoader>,
+    /// The simulation's controls.
+    sim: SimControls,
+    /// The simulation's part of the last frame.
+    sim_frame: Option<SimFrameInfo>,
+    /// The hair and head the simulation was started on ([`hair_key`]).
+    sim_hair: Vec<usize>,
+    /// Start the simulation again before the next frame (its scene settings changed).
+    sim_restart: bool,
+    /// Keyboard modifiers held (Shift and Ctrl drags move the head).
+    modifiers: ModifiersState,
     started: Instant,
     last_frame: Option<Instant>,
     frames: u32,
@@ -255,6 +272,27 @@ fn describe(inputs: &[PathBuf]) -> String {
             .collect::<Vec<_>>()
             .join(" ")
     }
+}
+
+/// What identifies the hair and head a session loaded: a setting that loads them again (a hair or
+/// head key) gives new ones, on which the simulation must start again.
+fn hair_key(session: &Session) -> Vec<usize> {
+    let p = session.prepared();
+    p.objects
+        .iter()
+        .map(|o| o.asset.positions().as_ptr() as usize)
+        .chain(p.head.as_ref().map(|m| m.positions.as_ptr() as usize))
+        .collect()
+}
+
+/// The simulation's controls for a session's scene (off).
+fn sim_controls(session: &Session) -> SimControls {
+    let scene = session.scene();
+    // A scene's `[simulation]` is checked when it loads: an error here cannot happen.
+    SimControls::new(
+        scene.simulation_settings().unwrap_or_default(),
+        scene.head.motion.clone(),
+    )
 }
 
 /// `tress-view-NNNN.png` in `dir`, the first that does not exist.

@@ -12,9 +12,24 @@
 //! Controls: left drag orbits about the camera target, middle drag pans, the wheel zooms. Keys:
 //! T the next technique ([`tress_render::session::TechniqueKind::NAMES`] order: the five, then
 //! `auto`), L rotates the lights
-//! about the up axis, S saves `tress-view-NNNN.png`, R reloads the shaders (see below), U
-//! hides the panel, Q or Esc quits. Files dropped on the window, or named in the panel's Open
-//! field, are opened as a new session.
+//! about the up axis, S saves `tress-view-NNNN.png`, R reloads the shaders (see below), P pauses
+//! or runs the simulation, U hides the panel, Q or Esc quits. Files dropped on the window, or
+//! named in the panel's Open field, are opened as a new session.
+//!
+//! The panel's simulation section simulates the hair on the GPU
+//! ([`tress_render::session::Session::start_simulation`]; the techniques that draw strands):
+//! on and off, pause, one step, reset, the head's motion (the scene's `[head.motion]`, still, or
+//! a preset), and the local and global stiffness, damping and wind (strength, turbulence,
+//! heading), which start the simulation again with the new values when a slider is released, the
+//! clock and the head going on. While simulating, Shift + left drag moves the head in the view
+//! plane and Ctrl + left drag turns it about the vertical; the hair follows
+//! ([`tress_render::session::Session::simulate_to_with`]). Simulated time follows the clock (a
+//! frame counts at most 0.1 s) and the hair steps at the fixed `simulation.rate_hz`, so the
+//! display rate does not change it. The timings show the simulation's passes' GPU times for the
+//! frame (`sim/integrate`, `sim/grid`, `sim/constraints`, `sim/output`, from timestamps where
+//! the device has them), its steps and their CPU wall time (recording to the GPU's end), its
+//! guides and strands, and its GPU memory. A scene with `[simulation] enabled = true` starts
+//! simulating when it opens.
 //!
 //! R reloads the shaders: the renderer reads its WGSL from a checkout's
 //! `crates/tress-render/src` for pipelines created from then on
@@ -40,6 +55,7 @@ mod orbit;
 mod panel;
 mod present;
 mod reload;
+mod sim_controls;
 
 use std::path::PathBuf;
 

@@ -128,9 +128,17 @@ impl OrbitCamera {
     /// Middle drag by `(dx, dy)` pixels in a view `height` pixels tall: the point under the
     /// cursor at the target's depth follows the cursor.
     pub fn pan(&mut self, dx: f32, dy: f32, height: u32) {
+        let (right, up, units_per_pixel) = self.view_plane(height);
+        self.target += (-right * dx + up * dy) * units_per_pixel;
+    }
+
+    /// The screen's right and up axes (unit, world space) and the world units a pixel spans at
+    /// the target's depth, in a view `height` pixels tall: how a drag in the view plane moves
+    /// things (the viewer's head drag).
+    pub(crate) fn view_plane(&self, height: u32) -> (Vec3, Vec3, f32) {
         let units_per_pixel = 2.0 * self.distance * (self.fov_y * 0.5).tan() / height.max(1) as f32;
         let (right, up) = self.screen_axes();
-        self.target += (-right * dx + up * dy) * units_per_pixel;
+        (right, up, units_per_pixel)
     }
 
     /// Near and far planes at the current distance: the scene's, moved by how much closer or

@@ -1,11 +1,14 @@
 //! The egui side panel: technique, the current technique's settings by their scene keys, lights,
-//! opening files, the last frame's per-pass timings and memory, and the status line.
+//! the simulation, opening files, the last frame's per-pass timings, the simulation's time and
+//! memory, and the status line.
 //!
 //! The panel never changes the session itself: it returns [`Action`]s (`key=value` settings,
 //! technique switches, files to open) that the viewer applies after the UI pass, and shows the
 //! values the session holds, so a setting the session refuses snaps back and its error shows.
 //! Sliders of settings that only change uniforms apply while dragging; those that rebuild GPU
-//! resources (volume resolution, patches, SATF) apply when released.
+//! resources (volume resolution, patches, SATF) apply when released. The simulation section's
+//! sliders apply when released too: each change starts the session's simulation again
+//! ([`crate::sim_controls`]).
 
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -14,8 +17,11 @@ use egui::{Color32, RichText, Ui};
 use tress_render::Timings;
 use tress_render::session::{Memory, Session, TechniqueKind};
 
+use crate::sim_controls::{SimAction, SimControls, SimEdit};
+
 mod form;
 mod settings;
+mod simulation;
 
 use form::Form;
 use settings::settings;
@@ -39,6 +45,27 @@ pub(crate) enum Action {
     Screenshot,
     /// Start or stop the light rotation (the L key).
     ToggleLights,
+    /// The simulation's controls.
+    Sim(SimAction),
+}
+
+/// The simulation's part of a frame, for the timings.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct SimFrameInfo {
+    /// Steps run for the frame (every character).
+    pub(crate) steps: u64,
+    /// CPU wall time from recording the first step to the GPU's end of the last (the session
+    /// waits for it), milliseconds.
+    pub(crate) wall_ms: Option<f64>,
+    /// The simulation passes' GPU times for the frame (timestamps, summed over its substeps),
+    /// `NotSupported` on a device without timestamps.
+    pub(crate) gpu: Timings,
+    /// Guides simulated.
+    pub(crate) guides: usize,
+    /// Strands drawn from them (guides and followers).
+    pub(crate) strands: usize,
+    /// GPU memory of the simulation.
+    pub(crate) bytes: u64,
 }
 
 /// The last frame as the panel shows it.
@@ -58,6 +85,8 @@ pub(crate) struct FrameInfo {
     pub(crate) memory: Memory,
     /// The technique's own statistics in one line.
     pub(crate) detail: String,
+    /// The simulation's steps for the frame, when simulating.
+    pub(crate) simulation: Option<SimFrameInfo>,
 }
 
 /// What the panel shows besides the session.
@@ -76,6 +105,8 @@ pub(crate) struct View<'a> {
     pub(crate) error: Option<&'a str>,
     /// Whether the lights rotate.
     pub(crate) rotating: bool,
+    /// The simulation's controls.
+    pub(crate) sim: &'a SimControls,
 }
 
 /// Text fields and slider values being dragged, kept between frames.
@@ -89,6 +120,8 @@ pub(crate) struct PanelState {
     pending: HashMap<String, f64>,
     /// The technique whose sections were opened last.
     shown_technique: &'static str,
+    /// The simulation's settings while a slider is dragged.
+    sim_edit: Option<SimEdit>,
 }
 
 /// Draw the panel into the root `ui` and return what was asked for.
@@ -113,6 +146,16 @@ pub(crate) fn show(ui: &mut Ui, view: &View<'_>, state: &mut PanelState) -> Vec<
                     actions: &mut actions,
                 };
                 settings(ui, view.session, view.frame, switched, &mut form);
+                egui::CollapsingHeader::new("simulation")
+                    .default_open(view.sim.enabled)
+                    .show(ui, |ui| {
+                        simulation::simulation_section(
+                            ui,
+                            view.sim,
+                            &mut state.sim_edit,
+                            &mut actions,
+                        );
+                    });
                 ui.separator();
                 free_setting(ui, &mut state.set_text, &mut actions);
                 ui.separator();
@@ -178,8 +221,10 @@ fn header(ui: &mut Ui, view: &View<'_>, state: &mut PanelState, actions: &mut Ve
     egui::CollapsingHeader::new("keys").show(ui, |ui| {
         ui.label(
             "left drag: orbit   middle drag: pan   wheel: zoom\n\
+             simulating: Shift + left drag moves the head, Ctrl + left drag turns it\n\
              T: next technique   L: rotate lights   S: screenshot\n\
              R: reload the WGSL from the checkout, rebuild the session\n\
+             P: pause or run the simulation\n\
              U: hide this panel   Q / Esc: quit   drop files to open them",
         );
     });
@@ -245,20 +290,73 @@ fn frame_stats(ui: &mut Ui, frame: Option<&FrameInfo>) {
             ));
         }
     }
+    if let Some(s) = &f.simulation {
+        simulation_stats(ui, s);
+    }
     ui.label("GPU memory");
+    let sim_bytes = f.simulation.as_ref().map(|s| s.bytes);
     egui::Grid::new("memory").striped(true).show(ui, |ui| {
         for (name, bytes) in f.memory.rows() {
             ui.label(name);
             ui.label(mib(bytes));
             ui.end_row();
         }
+        if let Some(bytes) = sim_bytes {
+            ui.label("simulation");
+            ui.label(mib(bytes));
+            ui.end_row();
+        }
         ui.strong("total");
-        ui.strong(mib(f.memory.total()));
+        ui.strong(mib(f.memory.total() + sim_bytes.unwrap_or(0)));
         ui.end_row();
     });
     if !f.detail.is_empty() {
         ui.label(&f.detail);
     }
+}
+
+/// The simulation's frame: its passes' GPU times (this frame's, not deferred) or, on a device
+/// without timestamps, the wall time of its steps, labelled as such; guides and strands.
+fn simulation_stats(ui: &mut Ui, s: &SimFrameInfo) {
+    ui.label(simulation_line(s));
+    if let Timings::Passes(passes) = &s.gpu {
+        egui::Grid::new("simulation-timings")
+            .striped(true)
+            .show(ui, |ui| {
+                for p in passes {
+                    ui.label(p.name);
+                    ui.label(format!("{:.3} ms", p.ms));
+                    ui.end_row();
+                }
+                ui.strong("simulation GPU");
+                ui.strong(format!(
+                    "{:.3} ms",
+                    passes.iter().map(|p| p.ms).sum::<f64>()
+                ));
+                ui.end_row();
+            });
+    }
+}
+
+/// The simulation's frame in one line: steps, their wall time (the CPU's clock from recording
+/// the first step to the GPU's end of the last; the GPU's own time is in the passes' timestamps,
+/// where the device has them), guides and strands.
+fn simulation_line(s: &SimFrameInfo) -> String {
+    let wall = match s.wall_ms {
+        Some(ms) => format!("{ms:.3} ms CPU wall, GPU waited for"),
+        None => "not timed".into(),
+    };
+    let gpu = match &s.gpu {
+        Timings::Passes(_) => "",
+        Timings::NotSupported => " (no GPU timestamps on this device: wall time only)",
+    };
+    format!(
+        "simulation: {} step{} in {wall}{gpu}; {} guides, {} strands",
+        s.steps,
+        if s.steps == 1 { "" } else { "s" },
+        s.guides,
+        s.strands
+    )
 }
 
 fn mib(bytes: u64) -> String {

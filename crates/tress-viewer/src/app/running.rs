@@ -1,6 +1,7 @@
-//! The running viewer's work ([`Running`]): a frame rendered by the session into the offscreen
-//! target, copied onto the window with the panel drawn over it; panel and key actions applied to
-//! the session; the report at the end. The event handling that drives it is in `app.rs`.
+//! The running viewer's work ([`Running`]): the hair simulated to the frame's time (when on) and
+//! the frame rendered by the session into the offscreen target, copied onto the window with the
+//! panel drawn over it; panel and key actions applied to the session; the report at the end. The
+//! event handling that drives it is in `app.rs`.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -20,8 +21,9 @@ use winit::window::Window;
 
 use crate::display::Display;
 use crate::orbit::OrbitCamera;
-use crate::panel::{self, Action, FrameInfo, PanelState};
+use crate::panel::{self, Action, FrameInfo, PanelState, SimFrameInfo};
 use crate::present::Presenter;
+use crate::sim_controls::{Command, SimAction};
 use crate::{ViewerOptions, ViewerReport, reload};
 
 use super::*;
@@ -60,6 +62,16 @@ impl Running {
         )?;
         let orbit = OrbitCamera::from_scene(&session.scene().camera);
         let targets = OffscreenTargets::new(ctx, size, COLOR_FORMAT)?;
+        let sim = sim_controls(&session);
+        let mut actions = Vec::new();
+        if session
+            .scene()
+            .simulation_settings()
+            .is_ok_and(|s| s.enabled)
+        {
+            // `[simulation] enabled = true`: the scene is meant to be seen moving.
+            actions.push(Action::Sim(SimAction::Enable(true)));
+        }
 
         let egui_ctx = egui::Context::default();
         let egui_state = egui_winit::State::new(
@@ -96,9 +108,14 @@ impl Running {
             light_angle: 0.0,
             mouse: Mouse::default(),
             dropped: Vec::new(),
-            actions: Vec::new(),
+            actions,
             overrides: options.overrides.clone(),
             loader,
+            sim,
+            sim_frame: None,
+            sim_hair: Vec::new(),
+            sim_restart: false,
+            modifiers: ModifiersState::empty(),
             started: Instant::now(),
             last_frame: None,
             frames: 0,
@@ -169,7 +186,20 @@ impl Running {
                 if kv.trim_start().starts_with("camera.") {
                     self.orbit = OrbitCamera::from_scene(&self.session.scene().camera);
                 }
+                // `simulation.*` or `head.motion.*`: the panel's edits start from the new
+                // values, and a running simulation starts again with them.
+                let scene = self.session.scene();
+                let base = scene.simulation_settings()?;
+                if !self.sim.same_scene(&base, scene.head.motion.as_ref()) {
+                    self.sim.rebase(base, scene.head.motion.clone());
+                    self.sim_restart = self.sim.enabled;
+                }
                 Ok(Some(format!("set {kv}")))
+            }
+            Action::Sim(a) => {
+                let command = self.sim.apply(a.clone());
+                let started = self.apply_sim(command)?;
+                Ok(started.or_else(|| self.sim_status(&a)))
             }
             Action::NextTechnique => self.next_technique().map(Some),
             Action::Technique(t) => {
@@ -192,6 +222,12 @@ impl Running {
                 self.orbit = OrbitCamera::from_scene(&self.session.scene().camera);
                 self.source = describe(&paths);
                 self.frame = None;
+                // A new scene: its own simulation settings, off unless it asks to simulate.
+                self.sim = sim_controls(&self.session);
+                self.sim_frame = None;
+                if self.sim.settings().is_ok_and(|s| s.enabled) {
+                    self.actions.push(Action::Sim(SimAction::Enable(true)));
+                }
                 Ok(Some(format!("opened {}", self.source)))
             }
             Action::Rebuild => {
@@ -226,6 +262,143 @@ impl Running {
                 ))
             }
         }
+    }
+
+    /// Run a simulation command on the session; a start reports what is simulated. A start that
+    /// fails turns the simulation off (the hair back at rest) and is the error.
+    pub(super) fn apply_sim(&mut self, command: Command) -> Result<Option<String>> {
+        let ctx = &self.display.ctx;
+        let started = match command {
+            Command::None => return Ok(None),
+            Command::Stop => {
+                self.session.stop_simulation(ctx)?;
+                self.sim_frame = None;
+                return Ok(Some("simulation off: the hair at rest".into()));
+            }
+            Command::Start { settings, motion } => self
+                .session
+                .start_simulation(ctx, settings, motion)
+                .map(|()| true),
+            Command::Restart { settings, motion } => self
+                .session
+                .start_simulation(ctx, settings, motion)
+                .map(|()| false),
+        };
+        let fresh = match started {
+            Ok(fresh) => fresh,
+            Err(e) => {
+                self.sim.stopped();
+                self.sim_frame = None;
+                if let Err(stop) = self.session.stop_simulation(ctx) {
+                    tracing::warn!("stopping the simulation: {stop}");
+                }
+                return Err(anyhow::Error::from(e).context("simulation"));
+            }
+        };
+        let sim = self
+            .session
+            .simulation()
+            .context("the simulation did not start")?;
+        if fresh {
+            self.sim.started(sim.pivots().collect());
+        }
+        let (guides, strands) = sim.counts();
+        self.sim_hair = hair_key(&self.session);
+        self.sim_restart = false;
+        Ok(Some(if fresh {
+            format!("simulating {guides} guides of {strands} strands from 0 s")
+        } else {
+            format!(
+                "simulation restarted with the new settings at {:.2} s ({guides} guides)",
+                self.sim.time()
+            )
+        }))
+    }
+
+    /// The status line of a simulation action that did not start or stop anything.
+    fn sim_status(&self, action: &SimAction) -> Option<String> {
+        let off = !self.sim.enabled;
+        Some(match action {
+            SimAction::Pause(_) | SimAction::Step if off => "the simulation is off".into(),
+            SimAction::Pause(true) => format!("simulation paused at {:.3} s", self.sim.time()),
+            SimAction::Pause(false) => "simulation running".into(),
+            SimAction::Step => format!(
+                "one step: {:.4} s ({} Hz)",
+                self.sim.time(),
+                self.sim.rate_hz()
+            ),
+            SimAction::Motion(_) | SimAction::Edit(_) if off => {
+                "kept for when the simulation starts".into()
+            }
+            _ => return None,
+        })
+    }
+
+    /// A left drag of `(dx, dy)` pixels with Shift (the head moves in the view plane) or Ctrl
+    /// (the head turns) while simulating; false when it is not the head's (an orbit).
+    pub(super) fn drag_head(&mut self, dx: f32, dy: f32) -> bool {
+        if self.modifiers.shift_key() {
+            let (right, up, units_per_pixel) = self.orbit.view_plane(self.display.size()[1]);
+            self.sim.drag_move(dx, dy, right, up, units_per_pixel)
+        } else if self.modifiers.control_key() {
+            self.sim.drag_turn(dx)
+        } else {
+            false
+        }
+    }
+
+    /// The hair simulated to the frame's time, `dt` seconds of wall clock after the last frame
+    /// (see [`crate::sim_controls`]); a session rebuilt or reloaded since the simulation started
+    /// starts it again. A step that fails turns the simulation off: its error is the panel's
+    /// (the run's, with `strict`).
+    pub(super) fn simulate(&mut self, dt: f64, strict: bool) -> Result<()> {
+        self.sim_frame = None;
+        if self.sim.enabled
+            && (self.sim_restart
+                || self.session.simulation().is_none()
+                || hair_key(&self.session) != self.sim_hair)
+        {
+            let command = self.sim.apply(SimAction::Reset);
+            match self.apply_sim(command) {
+                Ok(status) => self.status = status.unwrap_or_default(),
+                Err(e) if strict => return Err(e),
+                Err(e) => self.error = Some(one_line(&e)),
+            }
+        }
+        let Some(t) = self.sim.advance(dt) else {
+            return Ok(());
+        };
+        let ctx = &self.display.ctx;
+        let sim = &self.sim;
+        match self
+            .session
+            .simulate_to_with(ctx, t, true, |k, time| sim.head(k, time))
+        {
+            Ok(f) => {
+                self.sim_frame = self.session.simulation().map(|s| {
+                    let (guides, strands) = s.counts();
+                    SimFrameInfo {
+                        steps: f.steps,
+                        wall_ms: f.wall_ms,
+                        gpu: f.gpu.clone(),
+                        guides,
+                        strands,
+                        bytes: s.bytes(),
+                    }
+                });
+            }
+            Err(e) => {
+                self.sim.stopped();
+                if let Err(stop) = self.session.stop_simulation(ctx) {
+                    tracing::warn!("stopping the simulation: {stop}");
+                }
+                if strict {
+                    return Err(anyhow::Error::from(e).context("simulation"));
+                }
+                self.error = Some(format!("simulation stopped: {e}"));
+            }
+        }
+        Ok(())
     }
 
     /// A new session on `scene` as it is now (technique and settings kept).
@@ -305,6 +478,7 @@ impl Running {
             status: &self.status,
             error: self.error.as_deref(),
             rotating: self.rotating,
+            sim: &self.sim,
         };
         let visible = self.ui_visible;
         let panel = &mut self.panel;
@@ -335,6 +509,7 @@ impl Running {
         for a in actions {
             self.apply(a);
         }
+        self.simulate(interval_ms * 1e-3, strict)?;
 
         // The frame.
         let ctx = &self.display.ctx.clone();
@@ -369,6 +544,7 @@ impl Running {
                     interval_ms,
                     memory: f.memory,
                     detail: detail(&f.detail),
+                    simulation: self.sim_frame.clone(),
                 });
             }
             Err(e) if strict => return Err(e.into()),
