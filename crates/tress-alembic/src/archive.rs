@@ -8,8 +8,10 @@
 //! (`crates/tress-hair/tests/data/make_abc.py`).
 //!
 //! - Root group: data 0 archive version (`i32`), data 1 library version (`i32`), group 2 the
-//!   top object, data 3 archive metadata, data 4 time samplings, data 5 indexed metadata (a list
-//!   of `u8` length + text; index 0 is the empty metadata).
+//!   top object, data 3 archive metadata, data 4 time samplings (per sampling a `u32` most
+//!   samples, an `f64` time per cycle, a `u32` count of times a cycle and that many `f64` times;
+//!   `WriteTimeSampling` in `WriteUtil.cpp`), data 5 indexed metadata (a list of `u8` length +
+//!   text; index 0 is the empty metadata).
 //! - Object group: group 0 its compound property, groups 1..n−1 its child objects, the last child
 //!   the data of the child objects' headers: per child a `u32` name length, the name, a `u8`
 //!   metadata index (`0xff`: a `u32` length and the metadata text follow); then 32 bytes of hashes.
@@ -119,6 +121,8 @@ pub(crate) struct PropertyHeader {
     pub(crate) pod: Pod,
     pub(crate) extent: usize,
     pub(crate) samples: u32,
+    /// The index of its time sampling in the archive's table (0, the identity, when unsaid).
+    pub(crate) time_sampling: u32,
     /// The first and last sample stored apart from sample 0 (Alembic stores sample 0, then
     /// `first..=last`; samples before `first` repeat sample 0, those after `last` repeat it).
     pub(crate) changed: (u32, u32),
@@ -137,6 +141,68 @@ impl PropertyHeader {
             k - first + 1
         }
     }
+}
+
+/// A time sampling of the archive's table: the times of a property's samples.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct TimeSampling {
+    /// Seconds per cycle (Alembic's `AcyclicTimePerCycle`, `f64::MAX / 32`, for acyclic).
+    pub(crate) time_per_cycle: f64,
+    /// The sample times of the first cycle (every sample's, acyclic), seconds.
+    pub(crate) times: Vec<f64>,
+}
+
+/// Alembic's time per cycle of an acyclic sampling (`TimeSamplingType::AcyclicTimePerCycle`).
+const ACYCLIC_TIME_PER_CYCLE: f64 = f64::MAX / 32.0;
+
+impl TimeSampling {
+    /// The mean seconds between samples: the cycle over its times (uniform: the cycle; cyclic:
+    /// the cycle over its count), or acyclic the span of the times over their gaps. `None`
+    /// where that is not a positive finite number (an acyclic sampling of one time).
+    pub(crate) fn seconds_per_sample(&self) -> Option<f64> {
+        let n = self.times.len();
+        let s = if self.time_per_cycle >= ACYCLIC_TIME_PER_CYCLE {
+            let (first, last) = (self.times.first()?, self.times.last()?);
+            (last - first) / n.checked_sub(1).filter(|&g| g > 0)? as f64
+        } else {
+            self.time_per_cycle / n.max(1) as f64
+        };
+        (s.is_finite() && s > 0.0).then_some(s)
+    }
+}
+
+/// The archive's time samplings (root data 4). A table that does not parse reads as empty: the
+/// times only give a cache its rate, so a damaged table costs that, not the file.
+fn time_samplings(data: &[u8]) -> Vec<TimeSampling> {
+    let mut cursor = Cursor {
+        bytes: data,
+        at: 0,
+        what: "time samplings",
+    };
+    let mut table = Vec::new();
+    while !cursor.done() {
+        match time_sampling(&mut cursor) {
+            Ok(t) => table.push(t),
+            Err(_) => return Vec::new(),
+        }
+    }
+    table
+}
+
+/// One entry of the time samplings, its times checked to be in the block before any is kept.
+fn time_sampling(cursor: &mut Cursor<'_>) -> Result<TimeSampling, AlembicError> {
+    cursor.u32()?;
+    let time_per_cycle = cursor.f64()?;
+    let n = cursor.u32()? as usize;
+    let bytes = cursor.take(n.saturating_mul(8))?;
+    let times = bytes
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]))
+        .collect();
+    Ok(TimeSampling {
+        time_per_cycle,
+        times,
+    })
 }
 
 /// An object's header (its name and metadata).
@@ -169,6 +235,8 @@ pub(crate) struct Reader<'a> {
     visited: HashSet<u64>,
     /// The sample of `P` to read (0: the first).
     pub(crate) frame: u32,
+    /// The archive's time samplings, by index.
+    pub(crate) time_samplings: Vec<TimeSampling>,
 }
 
 /// A cursor over packed little-endian header bytes.
@@ -201,6 +269,13 @@ impl<'b> Cursor<'b> {
     fn u32(&mut self) -> Result<u32, AlembicError> {
         let b = self.take(4)?;
         Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    }
+
+    fn f64(&mut self) -> Result<f64, AlembicError> {
+        let b = self.take(8)?;
+        Ok(f64::from_le_bytes([
+            b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7],
+        ]))
     }
 
     /// A size of the width the header's size hint gives (0: u8, 1: u16, 2: u32).
@@ -252,6 +327,7 @@ impl<'a> Reader<'a> {
             let n = cursor.u8()? as usize;
             indexed_metadata.push(cursor.text(n)?);
         }
+        let time_samplings = time_samplings(ogawa.child_data(&root, 4, "time samplings")?);
         let mut visited = HashSet::new();
         visited.insert(root.offset);
         Ok(Reader {
@@ -259,6 +335,7 @@ impl<'a> Reader<'a> {
             indexed_metadata,
             visited,
             frame: 0,
+            time_samplings,
         })
     }
 
@@ -383,6 +460,7 @@ impl<'a> Reader<'a> {
             let hint = (info >> 2) & 0x3;
             let meta_index = (info >> 20) & 0xff;
             let (mut pod, mut extent, mut samples, mut changed) = (Pod::U8, 1, 0, (0, 0));
+            let mut time_sampling = 0;
             if kind != Kind::Compound {
                 pod = Pod::from_code((info >> 4) & 0xf)?;
                 extent = ((info >> 12) & 0xff) as usize;
@@ -395,7 +473,7 @@ impl<'a> Reader<'a> {
                     changed = (0, 0);
                 }
                 if info & 0x100 != 0 {
-                    cursor.size(hint)?;
+                    time_sampling = cursor.size(hint)?;
                 }
             }
             let len = cursor.size(hint)? as usize;
@@ -407,6 +485,7 @@ impl<'a> Reader<'a> {
                 pod,
                 extent,
                 samples,
+                time_sampling,
                 changed,
                 metadata,
             });
@@ -515,7 +594,7 @@ impl<'a> Reader<'a> {
 
 #[cfg(test)]
 mod tests {
-    use super::meta_value;
+    use super::{ACYCLIC_TIME_PER_CYCLE, TimeSampling, meta_value, time_samplings};
 
     #[test]
     fn metadata_values() {
@@ -523,5 +602,40 @@ mod tests {
         assert_eq!(meta_value(m, "schema"), Some("AbcGeom_Curve_v2"));
         assert_eq!(meta_value(m, "geoScope"), None);
         assert_eq!(meta_value("", "x"), None);
+    }
+
+    /// The table as Alembic writes it: most samples, time per cycle, count, times.
+    fn table(entries: &[(f64, &[f64])]) -> Vec<u8> {
+        let mut b = Vec::new();
+        for (tpc, times) in entries {
+            b.extend_from_slice(&9u32.to_le_bytes());
+            b.extend_from_slice(&tpc.to_le_bytes());
+            b.extend_from_slice(&(times.len() as u32).to_le_bytes());
+            for t in *times {
+                b.extend_from_slice(&t.to_le_bytes());
+            }
+        }
+        b
+    }
+
+    #[test]
+    fn time_samplings_give_the_seconds_between_samples() {
+        let acyclic = ACYCLIC_TIME_PER_CYCLE;
+        let bytes = table(&[
+            (1.0, &[0.0]),
+            (0.04, &[0.04]),
+            (0.1, &[0.0, 0.02, 0.07, 0.08]),
+            (acyclic, &[1.0, 1.5, 2.5]),
+            (acyclic, &[3.0]),
+        ]);
+        let t = time_samplings(&bytes);
+        let spacing: Vec<Option<f64>> = t.iter().map(TimeSampling::seconds_per_sample).collect();
+        assert_eq!(
+            spacing,
+            [Some(1.0), Some(0.04), Some(0.025), Some(0.75), None]
+        );
+        // A table cut short reads as none (the file still reads; only the rate is lost).
+        assert!(time_samplings(&bytes[..bytes.len() - 3]).is_empty());
+        assert!(time_samplings(&[]).is_empty());
     }
 }

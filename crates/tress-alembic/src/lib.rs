@@ -148,6 +148,10 @@ pub struct Curves {
     pub guide: Option<Param<i64>>,
     /// How many samples `P` has (an animated cache has one a frame; at least 1).
     pub position_samples: u32,
+    /// Seconds between `P`'s samples by its time sampling (uniform: the time per cycle; cyclic
+    /// and acyclic: the mean spacing), `None` for one sample or a sampling that gives no
+    /// positive spacing.
+    pub seconds_per_position_sample: Option<f64>,
 }
 
 /// Everything read from an archive.

@@ -374,6 +374,11 @@ fn curves<'a>(
     let frame = reader.frame;
     let positions = f32_arrays::<3>(reader.sample(&geom, pi, frame)?);
     let position_samples = ph.samples.max(1);
+    let seconds_per_position_sample = reader
+        .time_samplings
+        .get(ph.time_sampling as usize)
+        .and_then(|t| t.seconds_per_sample())
+        .filter(|_| position_samples > 1);
     let (ni, nh) = required("nVertices")?;
     let counts = ints(nh.pod, reader.first_sample(&geom, ni)?, "nVertices")?;
     let mut total: u64 = 0;
@@ -470,5 +475,6 @@ fn curves<'a>(
         root_uv,
         guide,
         position_samples,
+        seconds_per_position_sample,
     })
 }

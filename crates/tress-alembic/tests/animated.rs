@@ -1,5 +1,6 @@
 //! An animated cache (`write_animated`): every frame of `P` reads back as written, a frame past
-//! the last reads the last, and the other properties keep their one sample.
+//! the last reads the last, `P`'s time sampling gives the seconds between frames, and the other
+//! properties keep their one sample.
 
 use tress_alembic::write::{CurvesOut, TimeSampling, write_animated};
 use tress_alembic::{read, read_frame};
@@ -36,6 +37,7 @@ fn every_frame_reads_back_as_written() {
         assert_eq!(c.curves.len(), 1);
         assert_eq!(c.curves[0].positions, frame(k), "frame {k}");
         assert_eq!(c.curves[0].position_samples, 5);
+        assert_eq!(c.curves[0].seconds_per_position_sample, Some(1.0 / 24.0));
         assert_eq!(c.curves[0].vertex_counts, vec![3, 4]);
         assert_eq!(c.curves[0].widths.as_ref().unwrap().values, vec![0.1; 7]);
     }
@@ -58,4 +60,5 @@ fn a_static_file_has_one_sample_at_every_frame() {
     let r = read_frame(&bytes, 3).unwrap();
     assert_eq!(r.curves[0].positions, frame(3));
     assert_eq!(r.curves[0].position_samples, 1);
+    assert_eq!(r.curves[0].seconds_per_position_sample, None);
 }

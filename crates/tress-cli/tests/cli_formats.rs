@@ -1,5 +1,5 @@
 //! The DCC and research formats end to end: `tress info` names the format and the prims or
-//! objects read, `tress convert` goes between formats, `tress render` draws a USD groom with the
+//! objects read and counts an animated cache's frames, `tress convert` goes between formats, `tress render` draws a USD groom with the
 //! head its stage carries, and bad files give one line and exit 2.
 
 mod common;
@@ -49,6 +49,37 @@ fn info_names_formats_prims_objects_and_skips() {
             && text.contains("guides skipped:    1"),
         "{text}"
     );
+}
+
+#[test]
+fn info_counts_the_frames_of_an_animated_cache() {
+    let asset = tress_hair::formats::read_path(&data("groom.usda")).unwrap();
+    let frames: Vec<Vec<glam::Vec3>> = (0..5)
+        .map(|k| {
+            let dx = glam::Vec3::new(0.1 * k as f32, 0.0, 0.0);
+            asset.positions().iter().map(|p| *p + dx).collect()
+        })
+        .collect();
+    for ext in ["abc", "usda", "usdc"] {
+        let cache = tmp(&format!("info_frames.{ext}"));
+        tress_hair::formats::write_cache_path(&cache, &asset, &frames, 30.0).unwrap();
+        let v = info(&cache);
+        assert_eq!(v["frames"], 5, "{ext}");
+        assert_eq!(v["sources"][0]["frames"], 5, "{ext}");
+        let fps = v["sources"][0]["fps"].as_f64().unwrap();
+        assert!((fps - 30.0).abs() < 1e-9, "{ext}: {fps}");
+        let text = tress(&["info", s(&cache)]);
+        let text = String::from_utf8_lossy(&text.stdout);
+        assert!(
+            text.contains("frames:            5 at 30 fps (an animated cache)")
+                && text.contains("frames:              5"),
+            "{ext}: {text}"
+        );
+    }
+    let still = info(&data("groom.abc"));
+    assert_eq!(still["frames"], 1);
+    assert_eq!(still["sources"][0]["frames"], 1);
+    assert!(still["sources"][0]["fps"].is_null());
 }
 
 #[test]

@@ -1,10 +1,11 @@
 //! Animated caches (`write_cache_path`): every frame written as `.abc`, `.usda` and `.usdc`
 //! reads back exactly at its index (`ReadOptions::frame`), a frame past the last reads the last,
-//! the strands' counts and widths are kept, and a format that holds no animation is refused.
+//! the strands' counts and widths are kept, the read reports the frame count (`Details::frames`,
+//! 1 for a still file) and a format that holds no animation is refused.
 
 use glam::Vec3;
 use tress_hair::HairAsset;
-use tress_hair::formats::{ReadOptions, load_path, write_cache_path};
+use tress_hair::formats::{ReadOptions, load_path, write_cache_path, write_path};
 
 fn asset() -> HairAsset {
     let positions: Vec<Vec3> = (0..12)
@@ -60,5 +61,55 @@ fn every_frame_of_every_cache_format_reads_back() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("frame 0 has 5 points, the hair 12"), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_cache_reports_its_frame_count_and_a_still_file_one() {
+    let dir = std::env::temp_dir().join(format!("tress-cache-frames-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let a = asset();
+    let f = frames(&a);
+    for ext in ["abc", "usda", "usdc"] {
+        let path = dir.join(format!("cache.{ext}"));
+        write_cache_path(&path, &a, &f[..3], 30.0).unwrap();
+        // Any frame's read reports the count, the frame past the last too.
+        for frame in [0, 2, 7] {
+            let options = ReadOptions {
+                frame,
+                ..ReadOptions::default()
+            };
+            let d = load_path(&path, &options).unwrap().details;
+            assert_eq!(d.frames, 3, "{ext}, read at frame {frame}");
+        }
+        // A one-frame cache and a still file are one frame.
+        write_cache_path(&path, &a, &f[..1], 30.0).unwrap();
+        let one = load_path(&path, &ReadOptions::default()).unwrap().details;
+        assert_eq!(one.frames, 1, "{ext}: a cache of one frame");
+        assert_eq!(one.fps, None, "{ext}: one frame has no rate");
+        let still = dir.join(format!("still.{ext}"));
+        write_path(&still, &a).unwrap();
+        let d = load_path(&still, &ReadOptions::default()).unwrap().details;
+        assert_eq!((d.frames, d.fps), (1, None), "{ext}: a still file");
+    }
+    // The file says its rate: Alembic P's time sampling, USD timeCodesPerSecond over the
+    // samples' spacing.
+    for ext in ["abc", "usda", "usdc"] {
+        let path = dir.join(format!("rate.{ext}"));
+        write_cache_path(&path, &a, &f, 30.0).unwrap();
+        let d = load_path(&path, &ReadOptions::default()).unwrap().details;
+        assert_eq!(d.frames, 6, "{ext}");
+        let fps = d.fps.unwrap_or_else(|| panic!("{ext}: no rate"));
+        assert!((fps - 30.0).abs() < 1e-9, "{ext}: {fps}");
+    }
+    let hair = dir.join("still.hair");
+    write_path(&hair, &a).unwrap();
+    assert_eq!(
+        load_path(&hair, &ReadOptions::default())
+            .unwrap()
+            .details
+            .frames,
+        1
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

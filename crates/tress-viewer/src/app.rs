@@ -1,6 +1,6 @@
 //! The window's event loop: input to camera, head drag, keys and panel actions, then each frame
-//! the hair simulated (when on), rendered by the session into an offscreen target, copied onto
-//! the window and the panel drawn over it.
+//! an animated cache's frame shown and the hair simulated (when on), rendered by the session
+//! into an offscreen target, copied onto the window and the panel drawn over it.
 
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
@@ -20,11 +20,13 @@ use winit::window::{Window, WindowId};
 
 use crate::display::Display;
 use crate::orbit::OrbitCamera;
-use crate::panel::{Action, FrameInfo, PanelState, SimFrameInfo};
+use crate::panel::{Action, FrameInfo, FrameLoad, PanelState, SimFrameInfo};
+use crate::playback::{Animation, PlayAction, Playback};
 use crate::present::Presenter;
 use crate::sim_controls::{SimAction, SimControls};
 use crate::{ViewerOptions, ViewerReport};
 
+mod playing;
 mod running;
 
 /// Light rotation speed about the up axis, radians per second.
@@ -133,6 +135,7 @@ impl ApplicationHandler for App {
             } if !response.consumed && !run.egui_ctx.egui_wants_keyboard_input() => {
                 let action = match logical_key.as_ref() {
                     Key::Named(NamedKey::Escape) => None,
+                    Key::Named(NamedKey::Space) => Some(Some(Action::Play(PlayAction::Toggle))),
                     Key::Character(c) => match c.to_lowercase().as_str() {
                         "q" => None,
                         "t" => Some(Some(Action::NextTechnique)),
@@ -140,6 +143,8 @@ impl ApplicationHandler for App {
                         "s" => Some(Some(Action::Screenshot)),
                         "r" => Some(Some(Action::Rebuild)),
                         "p" => Some(Some(Action::Sim(SimAction::Pause(!run.sim.paused)))),
+                        "." => Some(Some(Action::Play(PlayAction::Step(1)))),
+                        "," => Some(Some(Action::Play(PlayAction::Step(-1)))),
                         "u" => {
                             run.ui_visible = !run.ui_visible;
                             Some(None)
@@ -243,6 +248,14 @@ struct Running {
     sim_restart: bool,
     /// Keyboard modifiers held (Shift and Ctrl drags move the head).
     modifiers: ModifiersState,
+    /// The hair entries read from animated files, their frames and rate.
+    animation: Animation,
+    /// The animated cache's playback controls.
+    playback: Playback,
+    /// The cache's frame the session shows, and what it was shown on.
+    on_screen: Option<playing::OnScreen>,
+    /// How the last frame of the cache was shown, for the panel.
+    frame_load: Option<FrameLoad>,
     started: Instant,
     last_frame: Option<Instant>,
     frames: u32,

@@ -13,8 +13,21 @@
 //! T the next technique ([`tress_render::session::TechniqueKind::NAMES`] order: the five, then
 //! `auto`), L rotates the lights
 //! about the up axis, S saves `tress-view-NNNN.png`, R reloads the shaders (see below), P pauses
-//! or runs the simulation, U hides the panel, Q or Esc quits. Files dropped on the window, or
-//! named in the panel's Open field, are opened as a new session.
+//! or runs the simulation, Space plays or pauses an animated cache and `,` / `.` step it a frame
+//! back / on, U hides the panel, Q or Esc quits. Files dropped on the window, or named in the
+//! panel's Open field, are opened as a new session.
+//!
+//! An animated cache (Alembic `P` sampled once a frame, USD `points.timeSamples`, as `tress
+//! simulate` writes them; [`tress_hair::formats::Details::frames`] above 1) plays in the panel's
+//! playback section (`src/playback.rs`): play and pause, previous and next frame, a
+//! frame slider, the frame rate (the file's where it says, else 24 fps) and loop. It opens
+//! paused at the scene's frame (`hair.N.frame`, 0 unset); playing, the frame follows the clock.
+//! Each frame is the one `tress render cache.abc --frame K` draws: the animated files read again
+//! at `K`, and with strands, volume, hybrid and auto only the vertex positions replaced
+//! ([`tress_render::session::Session::update_hair_positions`]); patches and SATF build from the
+//! loaded hair, so for them a frame is the setting `hair.N.frame=K`, which reloads the session's
+//! hair (as slow as opening the file). While the simulation runs it drives the hair and the
+//! cache waits.
 //!
 //! The panel's simulation section simulates the hair on the GPU
 //! ([`tress_render::session::Session::start_simulation`]; the techniques that draw strands):
@@ -53,6 +66,7 @@ mod app;
 mod display;
 mod orbit;
 mod panel;
+mod playback;
 mod present;
 mod reload;
 mod sim_controls;

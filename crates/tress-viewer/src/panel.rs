@@ -1,6 +1,6 @@
 //! The egui side panel: technique, the current technique's settings by their scene keys, lights,
-//! the simulation, opening files, the last frame's per-pass timings, the simulation's time and
-//! memory, and the status line.
+//! an animated cache's playback, the simulation, opening files, the last frame's per-pass timings
+//! and statistics ([`detail`]), the simulation's time and memory, and the status line.
 //!
 //! The panel never changes the session itself: it returns [`Action`]s (`key=value` settings,
 //! technique switches, files to open) that the viewer applies after the UI pass, and shows the
@@ -15,11 +15,13 @@ use std::path::PathBuf;
 
 use egui::{Color32, RichText, Ui};
 use tress_render::Timings;
-use tress_render::session::{Memory, Session, TechniqueKind};
+use tress_render::session::{FrameDetail, Memory, Session, TechniqueKind};
 
+use crate::playback::{PlayAction, Playback, Shown};
 use crate::sim_controls::{SimAction, SimControls, SimEdit};
 
 mod form;
+mod playback;
 mod settings;
 mod simulation;
 
@@ -47,6 +49,19 @@ pub(crate) enum Action {
     ToggleLights,
     /// The simulation's controls.
     Sim(SimAction),
+    /// The animated cache's playback (Space, `,`, `.`).
+    Play(PlayAction),
+}
+
+/// How a frame of an animated cache was shown, for the playback section.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct FrameLoad {
+    /// The frame.
+    pub(crate) frame: u32,
+    /// CPU wall time of showing it (reading the files, uploading or reloading), milliseconds.
+    pub(crate) ms: f64,
+    /// Positions replaced, or the session's hair reloaded.
+    pub(crate) shown: Shown,
 }
 
 /// The simulation's part of a frame, for the timings.
@@ -107,6 +122,10 @@ pub(crate) struct View<'a> {
     pub(crate) rotating: bool,
     /// The simulation's controls.
     pub(crate) sim: &'a SimControls,
+    /// The animated cache's playback (one frame: no section).
+    pub(crate) playback: &'a Playback,
+    /// How its last frame was shown.
+    pub(crate) frame_load: Option<&'a FrameLoad>,
 }
 
 /// Text fields and slider values being dragged, kept between frames.
@@ -146,6 +165,19 @@ pub(crate) fn show(ui: &mut Ui, view: &View<'_>, state: &mut PanelState) -> Vec<
                     actions: &mut actions,
                 };
                 settings(ui, view.session, view.frame, switched, &mut form);
+                if view.playback.is_animated() {
+                    egui::CollapsingHeader::new("playback")
+                        .default_open(true)
+                        .show(ui, |ui| {
+                            playback::playback_section(
+                                ui,
+                                view.playback,
+                                view.frame_load,
+                                view.sim.enabled,
+                                &mut actions,
+                            );
+                        });
+                }
                 egui::CollapsingHeader::new("simulation")
                     .default_open(view.sim.enabled)
                     .show(ui, |ui| {
@@ -225,6 +257,7 @@ fn header(ui: &mut Ui, view: &View<'_>, state: &mut PanelState, actions: &mut Ve
              T: next technique   L: rotate lights   S: screenshot\n\
              R: reload the WGSL from the checkout, rebuild the session\n\
              P: pause or run the simulation\n\
+             Space: play or pause an animated cache   , / .: previous / next frame\n\
              U: hide this panel   Q / Esc: quit   drop files to open them",
         );
     });
@@ -369,5 +402,44 @@ fn status(ui: &mut Ui, view: &View<'_>) {
     }
     if !view.status.is_empty() {
         ui.label(RichText::new(view.status).small());
+    }
+}
+
+/// The technique's statistics in one line.
+pub(crate) fn detail(d: &FrameDetail) -> String {
+    match d {
+        FrameDetail::Strands(s) => {
+            let mut line = format!("{} segments, PPLL capacity {}", s.segments, s.ppll_capacity);
+            if let Some(g) = &s.gpu {
+                line += &format!(" ({} used, {} dropped)", g.ppll.used, g.ppll.dropped);
+                if let Some(o) = g.oit {
+                    line += &format!(
+                        ", OIT {}: {} fragments, {} lost",
+                        o.kind, o.fragments, o.lost
+                    );
+                }
+            }
+            if let Some(v) = &s.volume {
+                line += &format!(", volume {}³", v.resolution);
+            }
+            line + &format!(", lod {:.2}", s.lod)
+        }
+        FrameDetail::Patches(p) => format!("{} triangles, {}", p.triangles, p.scheme.name()),
+        FrameDetail::Satf(s) => {
+            let mut line = format!(
+                "{} clusters, {} layers, {} HSVs",
+                s.clusters, s.layers, s.hsvs
+            );
+            let skipped = s.skipped_strands;
+            if skipped.total() > 0 {
+                line += &format!(
+                    ", {} strands skipped ({} too short, {} degenerate)",
+                    skipped.total(),
+                    skipped.too_short,
+                    skipped.degenerate
+                );
+            }
+            line
+        }
     }
 }

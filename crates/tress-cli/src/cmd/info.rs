@@ -30,6 +30,8 @@ pub(crate) struct Info {
     files: Vec<String>,
     /// Per file: its format and what the read found.
     sources: Vec<Source>,
+    /// Frames of an animated cache (the most over the files; 1 when all are still).
+    frames: u32,
     strands: usize,
     vertices: usize,
     segments: usize,
@@ -56,6 +58,10 @@ pub(crate) struct Source {
     meshes: Vec<String>,
     guides_skipped: usize,
     single_vertex_skipped: usize,
+    /// Frames of an animated cache (1: a still file).
+    frames: u32,
+    /// Their rate where the file says (`null` otherwise).
+    fps: Option<f64>,
 }
 
 impl Source {
@@ -67,6 +73,8 @@ impl Source {
             meshes: d.meshes.clone(),
             guides_skipped: d.guides_skipped,
             single_vertex_skipped: d.single_vertex_skipped,
+            frames: d.frames,
+            fps: d.fps,
         }
     }
 }
@@ -79,6 +87,7 @@ impl Info {
         Info {
             files: files.iter().map(|p| p.display().to_string()).collect(),
             sources: Vec::new(),
+            frames: 1,
             strands: h.strand_count(),
             vertices: h.vertex_count(),
             segments: h.segment_count(),
@@ -113,6 +122,7 @@ pub(crate) fn run(args: Args) -> Result<()> {
         .zip(&found)
         .map(|(p, (format, details))| Source::of(p, *format, details))
         .collect();
+    info.frames = info.sources.iter().map(|s| s.frames).max().unwrap_or(1);
     if args.json {
         println!("{}", serde_json::to_string(&info)?);
     } else {
@@ -132,7 +142,18 @@ pub(crate) fn run(args: Args) -> Result<()> {
             if s.single_vertex_skipped > 0 {
                 println!("  1-vertex strands skipped: {}", s.single_vertex_skipped);
             }
+            if s.frames > 1 {
+                let rate = s
+                    .fps
+                    .map(|f| format!(" at {} fps", rate(f)))
+                    .unwrap_or_default();
+                println!(
+                    "  frames:            {}{rate} (an animated cache)",
+                    s.frames
+                );
+            }
         }
+        println!("frames:              {}", info.frames);
         println!("strands:             {}", info.strands);
         println!("vertices:            {}", info.vertices);
         println!("segments:            {}", info.segments);
@@ -155,4 +176,14 @@ pub(crate) fn run(args: Args) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// A frame rate as people write it: whole rates without decimals (24), others with three
+/// (29.970).
+fn rate(fps: f64) -> String {
+    if (fps - fps.round()).abs() < 1e-6 {
+        format!("{fps:.0}")
+    } else {
+        format!("{fps:.3}")
+    }
 }

@@ -7,8 +7,9 @@
 //! attributes: `groom_color` → color, `groom_root_uv` → strand UV, and `groom_guide`: curves
 //! with a non-zero value are simulation guides, not rendered hair, and are skipped (counted in
 //! [`AbcInfo::guides_skipped`]). Other objects (meshes, cameras) and attributes are ignored; `P` is
-//! read at [`ReadOptions::frame`] (an animated cache), everything else at its first sample. HDF5-based Alembic files are refused: "HDF5 Alembic is not
-//! supported, re-export as Ogawa".
+//! read at [`ReadOptions::frame`] (an animated cache: [`AbcInfo::frames`] counts its samples and
+//! [`AbcInfo::fps`] is their rate), everything else at its first sample. HDF5-based Alembic
+//! files are refused: "HDF5 Alembic is not supported, re-export as Ogawa".
 
 use glam::{DMat4, Vec2, Vec3};
 use tress_alembic::{AlembicError, Basis, CurveType, Curves, Scope};
@@ -27,6 +28,12 @@ pub struct AbcInfo {
     pub guides_skipped: usize,
     /// Objects of other schemas that were not read: full name and schema.
     pub ignored: Vec<(String, String)>,
+    /// Frames of an animated cache: the most samples `P` has over the curves objects (1 for a
+    /// still file; 0 only in a default value, never from a read).
+    pub frames: u32,
+    /// Frames a second of an animated cache: one over the seconds between samples of the
+    /// object's `P` with the most (its time sampling); `None` for a still file.
+    pub fps: Option<f64>,
 }
 
 fn error(e: AlembicError) -> HairError {
@@ -154,11 +161,19 @@ pub fn read_abc(bytes: &[u8], options: &ReadOptions) -> Result<(HairAsset, AbcIn
     let contents = tress_alembic::read_frame(bytes, options.frame).map_err(error)?;
     let mut info = AbcInfo {
         ignored: contents.ignored,
+        frames: 1,
         ..AbcInfo::default()
     };
     let mut assets = Vec::new();
     for c in contents.curves {
         info.objects.push(c.path.clone());
+        if c.position_samples > info.frames {
+            info.frames = c.position_samples;
+            info.fps = c
+                .seconds_per_position_sample
+                .map(|s| 1.0 / s)
+                .filter(|f| f.is_finite());
+        }
         let set = curve_set(c, &mut info.guides_skipped)?;
         if let Some(a) = set.into_asset(options).map_err(in_format)? {
             assets.push(a);

@@ -12,7 +12,8 @@
 //! The submodules document the exact layouts and where they come from. Cubic and NURBS curves are
 //! tessellated by the rule in [`curves`] at [`ReadOptions::cubic_segments`]. Head and body
 //! meshes (OBJ, glTF, USD `Mesh`) are read by [`mesh`]. Animated caches (a simulation's frames) are
-//! written by [`write_cache_path`] and read a frame at a time ([`ReadOptions::frame`]).
+//! written by [`write_cache_path`] and read a frame at a time ([`ReadOptions::frame`]); a read
+//! reports how many frames the file has and their rate ([`Details::frames`], [`Details::fps`]).
 //!
 //! # Validation
 //!
@@ -187,6 +188,8 @@ impl Format {
                 let mut l = plain(asset);
                 l.details.objects = info.objects;
                 l.details.guides_skipped = info.guides_skipped;
+                l.details.frames = info.frames.max(1);
+                l.details.fps = info.fps;
                 Ok(l)
             }
             Format::Usda | Format::Usdc | Format::Usdz | Format::Usd => {
@@ -221,7 +224,7 @@ impl Format {
 }
 
 /// What a read found beyond the asset: shown by `tress info`.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Details {
     /// USD prims or Alembic objects the curves came from.
     pub objects: Vec<String>,
@@ -234,6 +237,29 @@ pub struct Details {
     /// The USD stage's `Mesh` prims merged (world space): the head or body that came with the
     /// groom.
     pub mesh: Option<crate::generate::TriMesh>,
+    /// Frames of an animated cache, the samples [`ReadOptions::frame`] picks from: the most
+    /// samples of Alembic `P` over the curves objects, or of USD `points` time samples over the
+    /// curves prims; 1 for a still file (and for the formats that hold no animation).
+    pub frames: u32,
+    /// Frames a second of an animated cache, where the file says (Alembic: `P`'s time
+    /// sampling; USD: `timeCodesPerSecond` over the spacing of the `points` time samples);
+    /// `None` for a still file or one that does not say.
+    pub fps: Option<f64>,
+}
+
+impl Default for Details {
+    /// Nothing found: no prims, objects or skips, one frame.
+    fn default() -> Self {
+        Details {
+            objects: Vec::new(),
+            meshes: Vec::new(),
+            guides_skipped: 0,
+            single_vertex_skipped: 0,
+            mesh: None,
+            frames: 1,
+            fps: None,
+        }
+    }
 }
 
 /// An asset read from one file, with its format and what the read found.
@@ -268,6 +294,8 @@ fn usd_loaded(format: Format, c: usd::UsdContents) -> Result<Loaded, HairError> 
             objects: c.info.prims,
             meshes: c.info.meshes,
             mesh: c.mesh,
+            frames: c.info.frames.max(1),
+            fps: c.info.fps,
             ..Details::default()
         },
     })

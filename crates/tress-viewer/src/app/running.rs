@@ -1,7 +1,8 @@
-//! The running viewer's work ([`Running`]): the hair simulated to the frame's time (when on) and
-//! the frame rendered by the session into the offscreen target, copied onto the window with the
-//! panel drawn over it; panel and key actions applied to the session; the report at the end. The
-//! event handling that drives it is in `app.rs`.
+//! The running viewer's work ([`Running`]): an animated cache's frame shown (`playing.rs`), the
+//! hair simulated to the frame's time (when on) and the frame rendered by the session into the
+//! offscreen target, copied onto the window with the panel drawn over it; panel and key actions
+//! applied to the session; the report at the end. The event handling that drives it is in
+//! `app.rs`.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -9,7 +10,7 @@ use std::time::Instant;
 
 use anyhow::{Result, anyhow};
 use glam::Quat;
-use tress_render::session::{FrameDetail, Session, SessionOptions, TechniqueKind};
+use tress_render::session::{Session, SessionOptions, TechniqueKind};
 
 /// The techniques the viewer switches between, in order: the five, then `auto`.
 const TECHNIQUES: [&str; 6] = TechniqueKind::NAMES;
@@ -63,6 +64,7 @@ impl Running {
         let orbit = OrbitCamera::from_scene(&session.scene().camera);
         let targets = OffscreenTargets::new(ctx, size, COLOR_FORMAT)?;
         let sim = sim_controls(&session);
+        let (animation, probe_error) = playing::animation_of(&session);
         let mut actions = Vec::new();
         if session
             .scene()
@@ -101,8 +103,12 @@ impl Running {
             targets,
             panel: PanelState::default(),
             frame: None,
-            status: String::new(),
-            error: None,
+            status: if animation.frames > 1 {
+                format!("{} frames: Space plays, `,` / `.` step", animation.frames)
+            } else {
+                String::new()
+            },
+            error: probe_error,
             ui_visible: true,
             rotating: false,
             light_angle: 0.0,
@@ -116,6 +122,10 @@ impl Running {
             sim_hair: Vec::new(),
             sim_restart: false,
             modifiers: ModifiersState::empty(),
+            playback: animation.playback(),
+            animation,
+            on_screen: None,
+            frame_load: None,
             started: Instant::now(),
             last_frame: None,
             frames: 0,
@@ -182,9 +192,15 @@ impl Running {
         let ctx = &self.display.ctx;
         match action {
             Action::Set(kv) => {
+                let hair = hair_key(&self.session);
                 self.session.set(ctx, &kv).with_context(|| kv.clone())?;
                 if kv.trim_start().starts_with("camera.") {
                     self.orbit = OrbitCamera::from_scene(&self.session.scene().camera);
+                }
+                // The hair files or their frame set: the playback starts from what loaded.
+                let mut note = String::new();
+                if hair != hair_key(&self.session) && kv.trim_start().starts_with("hair.") {
+                    note = self.probe_animation();
                 }
                 // `simulation.*` or `head.motion.*`: the panel's edits start from the new
                 // values, and a running simulation starts again with them.
@@ -194,13 +210,14 @@ impl Running {
                     self.sim.rebase(base, scene.head.motion.clone());
                     self.sim_restart = self.sim.enabled;
                 }
-                Ok(Some(format!("set {kv}")))
+                Ok(Some(format!("set {kv}{note}")))
             }
             Action::Sim(a) => {
                 let command = self.sim.apply(a.clone());
                 let started = self.apply_sim(command)?;
                 Ok(started.or_else(|| self.sim_status(&a)))
             }
+            Action::Play(a) => Ok(self.apply_play(a)),
             Action::NextTechnique => self.next_technique().map(Some),
             Action::Technique(t) => {
                 self.session
@@ -228,7 +245,8 @@ impl Running {
                 if self.sim.settings().is_ok_and(|s| s.enabled) {
                     self.actions.push(Action::Sim(SimAction::Enable(true)));
                 }
-                Ok(Some(format!("opened {}", self.source)))
+                let note = self.probe_animation();
+                Ok(Some(format!("opened {}{note}", self.source)))
             }
             Action::Rebuild => {
                 let checkout = reload::find_checkout();
@@ -479,6 +497,8 @@ impl Running {
             error: self.error.as_deref(),
             rotating: self.rotating,
             sim: &self.sim,
+            playback: &self.playback,
+            frame_load: self.frame_load.as_ref(),
         };
         let visible = self.ui_visible;
         let panel = &mut self.panel;
@@ -509,6 +529,7 @@ impl Running {
         for a in actions {
             self.apply(a);
         }
+        self.play(interval_ms * 1e-3, strict)?;
         self.simulate(interval_ms * 1e-3, strict)?;
 
         // The frame.
@@ -543,7 +564,7 @@ impl Running {
                     wall_ms: f.wall_ms,
                     interval_ms,
                     memory: f.memory,
-                    detail: detail(&f.detail),
+                    detail: panel::detail(&f.detail),
                     simulation: self.sim_frame.clone(),
                 });
             }
@@ -652,44 +673,5 @@ pub(super) fn new_session(
         Ok(session.context("the built-in demo")?)
     } else {
         Ok(session?)
-    }
-}
-
-/// The technique's statistics in one line.
-pub(super) fn detail(d: &FrameDetail) -> String {
-    match d {
-        FrameDetail::Strands(s) => {
-            let mut line = format!("{} segments, PPLL capacity {}", s.segments, s.ppll_capacity);
-            if let Some(g) = &s.gpu {
-                line += &format!(" ({} used, {} dropped)", g.ppll.used, g.ppll.dropped);
-                if let Some(o) = g.oit {
-                    line += &format!(
-                        ", OIT {}: {} fragments, {} lost",
-                        o.kind, o.fragments, o.lost
-                    );
-                }
-            }
-            if let Some(v) = &s.volume {
-                line += &format!(", volume {}³", v.resolution);
-            }
-            line + &format!(", lod {:.2}", s.lod)
-        }
-        FrameDetail::Patches(p) => format!("{} triangles, {}", p.triangles, p.scheme.name()),
-        FrameDetail::Satf(s) => {
-            let mut line = format!(
-                "{} clusters, {} layers, {} HSVs",
-                s.clusters, s.layers, s.hsvs
-            );
-            let skipped = s.skipped_strands;
-            if skipped.total() > 0 {
-                line += &format!(
-                    ", {} strands skipped ({} too short, {} degenerate)",
-                    skipped.total(),
-                    skipped.too_short,
-                    skipped.degenerate
-                );
-            }
-            line
-        }
     }
 }

@@ -23,7 +23,8 @@
 //! Each prim's world transform is its `xformOp`s composed up the hierarchy
 //! (`!resetXformStack!` honoured), so several grooms in one stage merge as several files do.
 //! Attributes with only time samples are read at the earliest one, except `points`, read at
-//! its [`ReadOptions::frame`]-th time sample (an animated cache). Everything else (materials,
+//! its [`ReadOptions::frame`]-th time sample (an animated cache: [`UsdInfo::frames`] counts the
+//! samples and [`UsdInfo::fps`] is their rate). Everything else (materials,
 //! `HermiteCurves`, `normals`, other primvars) is ignored. A composition error (an arc cycle, a
 //! missing layer) is an error naming it.
 //!
@@ -80,6 +81,12 @@ pub struct UsdInfo {
     pub prims: Vec<String>,
     /// Mesh prims read, by path.
     pub meshes: Vec<String>,
+    /// Frames of an animated cache: the most `points` time samples over the curves prims (1 for
+    /// a still stage; 0 only in a default value, never from a read).
+    pub frames: u32,
+    /// Frames a second of an animated cache: the stage's `timeCodesPerSecond` over the mean
+    /// spacing of the time samples of the prim with the most; `None` for a still stage.
+    pub fps: Option<f64>,
 }
 
 /// A composed stage's curves and meshes.
@@ -298,7 +305,8 @@ impl Found {
         Ok(())
     }
 
-    fn finish(self) -> Result<UsdContents, HairError> {
+    fn finish(mut self) -> Result<UsdContents, HairError> {
+        self.info.frames = self.info.frames.max(1);
         let hair = if self.assets.is_empty() {
             None
         } else {
@@ -334,11 +342,28 @@ fn contents(stage: &Stage, options: &ReadOptions) -> Result<UsdContents, HairErr
             frame: options.frame,
         };
         found.add(&at, ty, world, options)?;
+        if ty != "Mesh" {
+            let times = schema::point_times(&prim)?;
+            if times.len() > found.info.frames as usize {
+                found.info.frames = u32::try_from(times.len()).unwrap_or(u32::MAX);
+                found.info.fps = frames_per_second(&times, stage.time_codes_per_second());
+            }
+        }
     }
     if let Some(e) = stage.composition_errors().first() {
         return Err(err(format!("composition error: {e}")));
     }
     found.finish()
+}
+
+/// Frames a second of time samples at `times` (time codes, ascending), `codes_per_second` time
+/// codes a second: one frame a mean spacing. `None` for fewer than two samples or a rate that
+/// is not positive and finite.
+fn frames_per_second(times: &[f64], codes_per_second: f64) -> Option<f64> {
+    let (first, last) = (times.first()?, times.last()?);
+    let spacing = (last - first) / (times.len() - 1) as f64;
+    let fps = codes_per_second / spacing;
+    (fps.is_finite() && fps > 0.0).then_some(fps)
 }
 
 fn in_format(e: HairError) -> HairError {

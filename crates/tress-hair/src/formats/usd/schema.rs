@@ -38,15 +38,13 @@ impl Attrs for AtFrame<'_> {
         if self.frame == 0 || name != "points" {
             return self.prim.value(name);
         }
-        let attr = self.prim.attribute(name);
-        let where_ = || format!("{}.{name}", self.prim.path().as_str());
-        let times = attr
-            .time_sample_times()
-            .map_err(|e| err(format!("{}: {e:#}", where_())))?;
+        let times = point_times(self.prim)?;
         match times.get((self.frame as usize).min(times.len().max(1) - 1)) {
-            Some(&t) => attr
+            Some(&t) => self
+                .prim
+                .attribute(name)
                 .get_at::<Value>(TimeCode::new(t))
-                .map_err(|e| err(format!("{}: {e:#}", where_()))),
+                .map_err(|e| err(format!("{}.{name}: {e:#}", self.prim.path().as_str()))),
             None => self.prim.value(name),
         }
     }
@@ -54,6 +52,14 @@ impl Attrs for AtFrame<'_> {
     fn interpolation(&self, name: &str) -> Option<Value> {
         self.prim.interpolation(name)
     }
+}
+
+/// The time codes of a stage prim's `points` time samples (ascending; empty when it has none):
+/// the frames [`AtFrame`] picks from.
+pub(super) fn point_times(prim: &Prim) -> Result<Vec<f64>, HairError> {
+    prim.attribute("points")
+        .time_sample_times()
+        .map_err(|e| err(format!("{}.points: {e:#}", prim.path().as_str())))
 }
 
 impl Attrs for Prim {
