@@ -113,3 +113,35 @@ fn a_cache_reports_its_frame_count_and_a_still_file_one() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_large_usdc_cache_of_equal_strands_reads_back() {
+    // 20,000 strands of 4 vertices: their vertex counts compress far below the integer coding's
+    // worst-case size (openusd refused such a block as larger than LZ4 can expand; every
+    // simulation cache of a real groom hit it).
+    let (strands, vertices) = (20_000u32, 4u32);
+    let positions: Vec<Vec3> = (0..strands * vertices)
+        .map(|i| Vec3::new((i / vertices) as f32 * 0.01, -((i % vertices) as f32), 0.0))
+        .collect();
+    let a = HairAsset::from_counts(positions, &vec![vertices; strands as usize]).unwrap();
+    let moved: Vec<Vec3> = a.positions().iter().map(|p| *p + Vec3::X).collect();
+    let frames = vec![a.positions().to_vec(), moved.clone()];
+    let dir = std::env::temp_dir().join(format!("tress-cache-large-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for ext in ["usdc", "abc"] {
+        let path = dir.join(format!("large.{ext}"));
+        write_cache_path(&path, &a, &frames, 24.0).unwrap();
+        let options = ReadOptions {
+            frame: 1,
+            ..ReadOptions::default()
+        };
+        let got = load_path(&path, &options).unwrap().asset;
+        assert_eq!(got.strand_count(), strands as usize, "{ext}");
+        assert_eq!(got.positions(), &moved[..], "{ext}");
+    }
+    // A still file of the same hair too.
+    let still = dir.join("still.usdc");
+    tress_hair::formats::write_path(&still, &a).unwrap();
+    assert_eq!(tress_hair::formats::read_path(&still).unwrap().positions(), a.positions());
+    std::fs::remove_dir_all(&dir).ok();
+}
