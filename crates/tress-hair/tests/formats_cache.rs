@@ -142,6 +142,9 @@ fn a_large_usdc_cache_of_equal_strands_reads_back() {
     // A still file of the same hair too.
     let still = dir.join("still.usdc");
     tress_hair::formats::write_path(&still, &a).unwrap();
-    assert_eq!(tress_hair::formats::read_path(&still).unwrap().positions(), a.positions());
+    assert_eq!(
+        tress_hair::formats::read_path(&still).unwrap().positions(),
+        a.positions()
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
