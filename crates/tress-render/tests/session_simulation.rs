@@ -149,3 +149,109 @@ fn a_cache_of_the_simulated_frames_reads_back_as_simulated() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Two characters (the hair and a copy of it 40 units along x), no head.
+fn two_characters(ctx: &tress_render::GpuContext, assets: &[HairAsset]) -> Session {
+    let hair = assets
+        .iter()
+        .map(|a| PreparedHair {
+            asset: a.clone(),
+            material: Material::default(),
+            technique: TechniqueKind::Strands,
+        })
+        .collect();
+    Session::with_hair(
+        ctx,
+        TargetFormats::default(),
+        tress_scene::Scene::default(),
+        hair,
+        None,
+        SessionOptions::default(),
+    )
+    .unwrap()
+}
+
+fn mean_abs(a: &tress_render::LinearImage, b: &tress_render::LinearImage) -> f32 {
+    let sum: f32 = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .map(|(p, q)| (0..3).map(|c| (p[c] - q[c]).abs()).sum::<f32>() / 3.0)
+        .sum();
+    sum / a.pixels.len() as f32
+}
+
+#[test]
+fn volume_hybrid_and_auto_draw_every_characters_simulated_hair() {
+    let Some(ctx) = common::gpu() else { return };
+    let first = hair();
+    let mut second = first.clone();
+    second
+        .positions_mut()
+        .iter_mut()
+        .for_each(|p| *p += Vec3::new(40.0, 0.0, 0.0));
+    let rest = [first, second];
+    let mut s = two_characters(&ctx, &rest);
+    let settings = SimSettings {
+        guides: 0.25,
+        ..SimSettings::default()
+    };
+    s.start_simulation(&ctx, settings, MotionSpec::preset(tress_sim::Preset::Turn))
+        .unwrap();
+    s.simulate_to(&ctx, 0.5, false).unwrap();
+    assert_eq!(s.simulation().unwrap().characters().count(), 2);
+    // Each character turned about its own pivot and its hair moved.
+    let p = s.read_hair_positions(&ctx).unwrap();
+    let n = rest[0].positions().len();
+    let moved: Vec<HairAsset> = rest
+        .iter()
+        .enumerate()
+        .map(|(k, a)| {
+            let mut m = a.clone();
+            m.positions_mut().copy_from_slice(&p[k * n..(k + 1) * n]);
+            let tips = m
+                .positions()
+                .iter()
+                .zip(a.positions())
+                .map(|(x, y)| x.distance(*y))
+                .fold(0.0f32, f32::max);
+            assert!(tips > 2.0, "character {k} moved {tips}");
+            m
+        })
+        .collect();
+    // Every strand technique draws what was simulated: about the frame of a session given the
+    // simulated positions as still hair (not to the bit: the simulated hair's volume is placed
+    // by bounds that allow for its reach, the still hair's by its own box), and far from the
+    // frame of the hair at rest.
+    let size = [160, 90];
+    let targets =
+        tress_render::OffscreenTargets::new(&ctx, size, tress_render::COLOR_FORMAT).unwrap();
+    let camera = tress_render::Camera::look_at(
+        Vec3::new(20.0, 5.0, 90.0),
+        Vec3::new(20.0, -5.0, 0.0),
+        Vec3::Y,
+        0.6,
+        1.0,
+        300.0,
+        size,
+    );
+    let mut still = two_characters(&ctx, &moved);
+    let mut at_rest = two_characters(&ctx, &rest);
+    let frame = |session: &mut Session, technique: &str| {
+        session.set_technique(&ctx, technique).unwrap();
+        session
+            .render(&ctx, &targets.targets(), &camera, None)
+            .unwrap();
+        tress_render::read_texture(&ctx, &targets.color).unwrap()
+    };
+    for technique in ["volume", "hybrid", "auto"] {
+        let simulated = frame(&mut s, technique);
+        let same = frame(&mut still, technique);
+        let resting = frame(&mut at_rest, technique);
+        let (d_same, d_rest) = (mean_abs(&simulated, &same), mean_abs(&simulated, &resting));
+        assert!(
+            d_same < 2e-3 && d_rest > 10.0 * d_same.max(1e-5),
+            "{technique}: {d_same} from the simulated positions drawn still, {d_rest} from rest"
+        );
+    }
+}
