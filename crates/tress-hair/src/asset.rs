@@ -85,6 +85,23 @@ pub struct LengthStats {
     pub total: f32,
 }
 
+/// A [`HairAsset`] taken apart by [`HairAsset::into_parts`] (its fields, moved out).
+#[derive(Clone, Debug, PartialEq)]
+pub struct HairParts {
+    /// Vertex positions, strand after strand.
+    pub positions: Vec<Vec3>,
+    /// Where each strand starts in `positions`, and the vertex count at the end.
+    pub strand_offsets: Vec<u32>,
+    /// Per-vertex strand diameter.
+    pub thickness: Option<Vec<f32>>,
+    /// Per-vertex transparency (0 opaque).
+    pub transparency: Option<Vec<f32>>,
+    /// Per-vertex linear RGB color.
+    pub color: Option<Vec<Vec3>>,
+    /// Per-strand UV.
+    pub strand_uv: Option<Vec<Vec2>>,
+}
+
 /// A hair asset: a set of strands, each a polyline from root to tip.
 ///
 /// Stored as a structure of arrays: one `positions` array for all vertices, and per-strand vertex
@@ -105,6 +122,19 @@ pub struct HairAsset {
 }
 
 impl HairAsset {
+    /// The asset taken apart without copies: positions, strand offsets (`strand_count + 1`,
+    /// starting at 0) and the optional thickness, transparency, color and strand UVs.
+    pub fn into_parts(self) -> HairParts {
+        HairParts {
+            positions: self.positions,
+            strand_offsets: self.strand_offsets,
+            thickness: self.thickness,
+            transparency: self.transparency,
+            color: self.color,
+            strand_uv: self.strand_uv,
+        }
+    }
+
     /// An asset from positions and the vertex count of each strand.
     pub fn from_counts(positions: Vec<Vec3>, vertex_counts: &[u32]) -> Result<Self, HairError> {
         let mut offsets = Vec::with_capacity(vertex_counts.len() + 1);

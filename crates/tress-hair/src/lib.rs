@@ -19,6 +19,6 @@ pub mod panic_guard;
 pub mod patches;
 pub mod rng;
 
-pub use asset::{Aabb, HairAsset, LengthStats};
+pub use asset::{Aabb, HairAsset, HairParts, LengthStats};
 pub use error::HairError;
 pub use follow::{DEFAULT_RADIUS_FACTOR, FollowMode, FollowParams, FollowRadius, FollowReport};

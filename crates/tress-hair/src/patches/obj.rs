@@ -233,6 +233,36 @@ impl TriMesh {
         Ok(mesh)
     }
 
+    /// A triangle mesh from positions and three vertex indices per triangle, with
+    /// area-weighted vertex normals (as an OBJ without normals gets). Errors when an index is
+    /// out of range, the index count is not a multiple of three, there is no triangle or a
+    /// position is not finite.
+    pub fn from_triangles(positions: Vec<Vec3>, indices: Vec<u32>) -> Result<TriMesh, HairError> {
+        if indices.is_empty() || indices.len() % 3 != 0 {
+            return Err(HairError::Invalid(format!(
+                "a mesh needs three indices per triangle and at least one triangle, got {} indices",
+                indices.len()
+            )));
+        }
+        if let Some(&i) = indices.iter().find(|&&i| i as usize >= positions.len()) {
+            return Err(HairError::Invalid(format!(
+                "face index {i} is past the {} vertices",
+                positions.len()
+            )));
+        }
+        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(HairError::Invalid(format!(
+                "vertex {i} has a non-finite position"
+            )));
+        }
+        let normals = face_normals(&positions, &indices);
+        Ok(TriMesh {
+            positions,
+            normals,
+            indices,
+        })
+    }
+
     /// [`TriMesh::from_obj`] of a file; errors name the file.
     pub fn read_obj(path: impl AsRef<Path>) -> Result<TriMesh, HairError> {
         let path = path.as_ref();

@@ -160,6 +160,8 @@ pub struct Session {
     given: bool,
     /// The hair's simulation, when one runs ([`Session::start_simulation`]).
     simulation: Option<SessionSimulation>,
+    /// Clear the color target's alpha to 0 rather than 1 ([`Session::set_transparent_background`]).
+    transparent: bool,
 }
 
 impl std::fmt::Debug for Session {
@@ -291,6 +293,7 @@ impl Session {
             hair_visible: true,
             given,
             simulation: None,
+            transparent: false,
         };
         session.prepare(ctx)?;
         // Cards without hair (an OBJ) are framed on the cards.
@@ -605,6 +608,13 @@ impl Session {
         }
     }
 
+    /// Clear the color target's alpha to 0 (`true`) instead of 1, so that after a frame the
+    /// alpha channel holds the coverage of the hair and the head (every pass blends
+    /// premultiplied), while the color channels still show them over the scene's background.
+    pub fn set_transparent_background(&mut self, transparent: bool) {
+        self.transparent = transparent;
+    }
+
     /// Render one frame with the current technique into `targets` (cleared to the scene's
     /// background) from `camera`, with `lights` or the scene's.
     pub fn render(
@@ -622,7 +632,10 @@ impl Session {
                 lights: lights.unwrap_or(&self.prepared.lights),
                 ambient: Vec3::splat(AMBIENT),
                 head: self.head.as_ref(),
-                clear: self.prepared.clear_color(),
+                clear: self.prepared.clear_color().map(|c| wgpu::Color {
+                    a: if self.transparent { 0.0 } else { c.a },
+                    ..c
+                }),
             },
             prepared: &self.prepared,
             hair_visible: self.hair_visible,
