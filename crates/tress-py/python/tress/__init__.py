@@ -14,6 +14,7 @@ centimetres, y up); ``Camera`` pixels follow OpenCV (x right, y down, pixel (0, 
 
 from . import _tress
 from ._camera import Camera, orbit
+from ._dataset import render_dataset
 from ._hair import Hair, generate, load, save, styles
 from ._render import MAPS, Renderer
 
@@ -28,6 +29,7 @@ __all__ = [
     "generate",
     "load",
     "orbit",
+    "render_dataset",
     "save",
     "styles",
 ]
