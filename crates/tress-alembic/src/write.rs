@@ -363,8 +363,8 @@ pub fn write(curves: &[CurvesOut]) -> Vec<u8> {
     )
 }
 
-/// [`write`], with the curves objects' [`CurvesOut::frames`] as samples of `P` on the uniform
-/// time sampling `time` (the archive's time sampling 1).
+/// [`write`](fn@write), with the curves objects' [`CurvesOut::frames`] as samples of `P` on the
+/// uniform time sampling `time` (the archive's time sampling 1).
 pub fn write_animated(curves: &[CurvesOut], time: TimeSampling) -> Vec<u8> {
     let mut out = Out {
         bytes: vec![0u8; 16],

@@ -192,8 +192,8 @@ pub fn marschner(m: &Marschner, t: Vec3, l: Vec3, v: Vec3) -> Vec3 {
 
 /// The radiance towards `v` from one directional light of tress radiance `light_color` (the
 /// radiance of a white Lambertian surface facing it): `π · S(l, v) · light_color`. Multiply by
-/// the light's visibility outside, or use [`crate::dual_scattering::hair_scattering`] for the
-/// shadowed light with multiple scattering.
+/// the light's visibility outside, or use [`crate::dual_scattering::dual_scattering_lighting`]
+/// for the shadowed light with multiple scattering.
 pub fn marschner_lighting(m: &Marschner, t: Vec3, l: Vec3, light_color: Vec3, v: Vec3) -> Vec3 {
     std::f32::consts::PI * marschner(m, t, l, v) * light_color
 }

@@ -65,9 +65,11 @@ fn world_unit_defaults() -> [(&'static str, f32, i32); 7] {
     ]
 }
 
-/// Give every world-unit setting the scene leaves at its default ([`world_unit_defaults`]) its
-/// default times `scale` (to its power): the depth bias, shadow density, AO radius and LOD
-/// distances of an asset in metres are those of the same asset in centimetres.
+/// Give every world-unit setting the scene leaves at its default its default times `scale` (to
+/// its power): the depth bias, shadow density, AO radius and LOD distances of an asset in metres
+/// are those of the same asset in centimetres. The settings are `strands.shadow_r` (per unit
+/// length, so divided by `scale`), `strands.shadow_bias`, `volume.strand_width`,
+/// `volume.ao_radius`, `hybrid.near`, `hybrid.far` and `satf.shadow_bias`.
 pub fn scale_world_defaults(scene: &mut Scene, scale: f32) {
     if scale == 1.0 {
         return;
@@ -89,7 +91,7 @@ pub fn scale_world_defaults(scene: &mut Scene, scale: f32) {
 /// extents ([`framing_direction`]), with the near and far planes around it, and the world-unit
 /// defaults fitted to the asset's unit ([`unit_scale`], [`scale_world_defaults`]): what
 /// `tress render hair-file` uses when no scene gives a camera. Settings loaded before the call
-/// are reloaded with [`PreparedScene::reload_settings`].
+/// are reloaded with [`PreparedScene::reload_settings`](super::PreparedScene::reload_settings).
 pub fn frame_bounds(scene: &mut Scene, min: Vec3, max: Vec3) {
     scale_world_defaults(scene, unit_scale(min, max));
     let center = (min + max) * 0.5;

@@ -8,8 +8,9 @@
 //!
 //! - **PPLL** (Jansson 2019 §3.2): exactly the paper's linked lists and k-buffer resolve. Its
 //!   node pool grows after a frame that dropped fragments, up to `ppll_max_bytes` and
-//!   [`NODE_CHUNKS`] storage bindings of the device's largest size. Fragments beyond the pool are
-//!   dropped and counted (design rule 8): with [`Oit::Ppll`] they are lost.
+//!   [`NODE_CHUNKS`](super::NODE_CHUNKS) storage bindings of the device's largest size.
+//!   Fragments beyond the pool are dropped and counted (design rule 8): with [`Oit::Ppll`] they
+//!   are lost.
 //! - **ShortCut** (after TressFX 4.1's "ShortCut" OIT): a depth-only pass keeps each pixel's `k`
 //!   nearest fragment depths (an `atomicMax` chain over `k` sorted key layers; a fragment
 //!   farther than a full set of `k` stops after one load), a shade pass

@@ -7,15 +7,17 @@
 //! f(ωo, ωi) = Σ_{p=0}^{2} M_p(θi, θo') A_p(θo, h) N_p(φi - φo) + M_3(θi, θo) A_3 / 2π
 //! ```
 //!
-//! - `M_p`: d'Eon et al. 2011's longitudinal term ([`terms::mp`]) with variance `v` for R, `v/4`
+//! - `M_p`: d'Eon et al. 2011's longitudinal term (`terms::mp`) with variance `v` for R, `v/4`
 //!   for TT and `4v` for TRT and the residual (`v(βm)` of [`HairFiber::longitudinal_variance`]);
 //!   `θo'` is `θo` tilted by the cuticle scales: `θo - 2α` (R), `θo + α` (TT), `θo + 4α` (TRT).
 //! - `A_p`: Fresnel at `cos θo cos γo` and the transmittance `T = exp(-σa · 2 cos γt / cos θt)`
 //!   of one crossing (`σa` per fibre radius), with the residual `A_3` of all longer paths
-//!   ([`terms::attenuation`]).
+//!   (`terms::attenuation`).
 //! - `N_p`: the trimmed logistic of scale `s(βn)` about the perfect-specular azimuth
-//!   `Φ(p) = 2p γt - 2γo + pπ` ([`terms::np`]), `sin γo = h`, `sin γt = h / η'` with Bravais'
+//!   `Φ(p) = 2p γt - 2γo + pπ` (`terms::np`), `sin γo = h`, `sin γt = h / η'` with Bravais'
 //!   index `η' = sqrt(η² - sin² θo) / cos θo`.
+//!
+//! The terms (`M_p`, `A_p`, `N_p`) are crate-private functions in `src/chiang/terms.rs`.
 //!
 //! `f` is per solid angle with no cosine factor (pbrt's `f · |cos θ|`, Mitsuba's `eval`):
 //! `∫ f dω = Σ_p A_p`, which is 1 for `σa = 0` (the white furnace). Radiance from a directional

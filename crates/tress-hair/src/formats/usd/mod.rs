@@ -4,9 +4,9 @@
 //!
 //! The stage is opened and composed (references, payloads, sublayers, variants) and every
 //! active prim is visited. A `.usdc` file whose one layer has no composition arcs is read
-//! without a stage, straight from the caller's bytes ([`layer`]: the same prims, values and
+//! without a stage, straight from the caller's bytes (`usd/layer.rs`: the same prims, values and
 //! transforms, several times faster); anything that layer path does not model goes to the stage.
-//! Either way the prims are read by [`schema`]:
+//! Either way the prims are read by `usd/schema.rs`:
 //!
 //! - `BasisCurves`: `curveVertexCounts`, `points`, `type` (`linear`, or `cubic` with `basis`
 //!   `bezier`, `bspline` or `catmullRom` and `wrap` `nonperiodic`, `pinned` or `periodic`,
