@@ -238,7 +238,7 @@ impl TriMesh {
     /// out of range, the index count is not a multiple of three, there is no triangle or a
     /// position is not finite.
     pub fn from_triangles(positions: Vec<Vec3>, indices: Vec<u32>) -> Result<TriMesh, HairError> {
-        if indices.is_empty() || indices.len() % 3 != 0 {
+        if indices.is_empty() || !indices.len().is_multiple_of(3) {
             return Err(HairError::Invalid(format!(
                 "a mesh needs three indices per triangle and at least one triangle, got {} indices",
                 indices.len()
