@@ -7,6 +7,23 @@
 //! This crate turns bytes into [`Curves`]; it knows nothing about hair assets. `tress-hair`
 //! tessellates them (`tress_hair::formats::abc`).
 //!
+//! ```
+//! use tress_alembic::write::{CurvesOut, write};
+//!
+//! // Two straight curves of two vertices, written by the minimal writer (feature `write`);
+//! // `bytes` could as well be `std::fs::read("groom.abc")?`.
+//! let bytes = write(&[CurvesOut {
+//!     name: "strands".into(),
+//!     positions: vec![[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]],
+//!     vertex_counts: vec![2, 2],
+//!     ..CurvesOut::default()
+//! }]);
+//! let contents = tress_alembic::read(&bytes)?;
+//! assert_eq!(contents.curves[0].vertex_counts, [2, 2]);
+//! assert_eq!(contents.curves[0].positions[3], [1.0, 1.0, 0.0]);
+//! # Ok::<(), tress_alembic::AlembicError>(())
+//! ```
+//!
 //! No maintained pure-Rust Alembic reader exists. `ogawa-rs` 0.4 was evaluated against the test
 //! files first: it finds `ICurves` and reads `P`, `nVertices` and `width`, but has no reader for
 //! `.arbGeomParams` (the groom attributes) nor indexed geometry parameters, composes no Xform

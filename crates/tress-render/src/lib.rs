@@ -10,6 +10,27 @@
 //! three in [`hybrid`] ([`Renderer::set_technique`], several heads of hair in one frame:
 //! [`HairObject`]).
 //!
+//! What a frame needs is prepared on the CPU from a scene ([`PreparedScene`]), with no GPU:
+//!
+//! ```
+//! use tress_render::PreparedScene;
+//! # fn main() -> Result<(), tress_render::RenderError> {
+//! let text = r#"
+//!     strands = { k = 4, alpha = 0.5 }
+//!     [[hair]]
+//!     generator = { style = "wavy", strands = 500, vertices = 16 }
+//! "#;
+//! let scene = tress_scene::Scene::from_str(text, ".")?;
+//! let prepared = PreparedScene::load(&scene)?; // hair, head mesh, lights, material, settings
+//! assert_eq!(prepared.hair_counts(), (500, 500 * 15)); // strands, segments
+//! assert_eq!((prepared.strands.k, prepared.strands.alpha), (4, 0.5));
+//! let camera = PreparedScene::camera(&scene, [640, 360]);
+//! assert_eq!(camera.viewport, [640, 360]);
+//! # Ok(()) }
+//! ```
+//!
+//! Then a frame on the GPU (compiled but not run by `cargo test`, which may have no adapter):
+//!
 //! ```no_run
 //! use tress_render::*;
 //! # fn main() -> Result<(), RenderError> {

@@ -17,19 +17,23 @@
 //!
 //! # Using it
 //!
-//! ```no_run
+//! ```
+//! use tress_hair::generate::{Style, StyleParams, generate};
 //! use tress_satf::{database, fit, shell};
 //! # fn main() -> Result<(), tress_satf::SatfError> {
-//! let asset = tress_hair::formats::read_path("hair.tfx".as_ref())?;
+//! // Any strand asset (`tress_hair::formats::read_path` reads a file); 300 generated strands.
+//! let params = StyleParams { strands: 300, vertices: 16, ..Style::Straight.default_params() };
+//! let asset = generate(Style::Straight, &params)?;
 //! let volume = fit::fit_clusters(&asset, &fit::FitSettings::default())?;
-//! let db = database::bake(&database::BakeSettings::default(), |done, total| {
-//!     eprint!("\r{done}/{total}");
-//! })?;
 //! let sampling = shell::ShellSampling::default();
+//! assert_eq!(volume.stats(&sampling).strands, 300);
+//! // The off-line HRIR database: 2048 random sectors by default, 16 here.
+//! let bake = database::BakeSettings { samples: 16, ..Default::default() };
+//! let db = database::bake(&bake, |_done, _total| {})?;
 //! for (_geometry, cluster) in volume.clusters() {
 //!     let features = shell::cluster_features(cluster, &sampling, &db.settings().density);
+//!     assert_eq!(features.len(), sampling.sector_count());
 //!     // … per HSV: online::sector_params, database::Database::hsv_maps, online::lighting …
-//! #   let _ = features;
 //! }
 //! # Ok(()) }
 //! ```

@@ -5,6 +5,24 @@
 //! scene: a grey background, a camera framing the default head, a warm key light and a cool fill
 //! light, the generated head, no hair, 1280 × 720, the `strands` technique.
 //!
+//! ```
+//! use tress_scene::Scene;
+//!
+//! let text = r#"
+//!     technique = "volume"
+//!     [[hair]]
+//!     generator = { style = "curly", strands = 200 }
+//! "#;
+//! let mut scene = Scene::from_str(text, ".")?; // "." : where relative paths resolve
+//! scene.apply_override("hair.0.generator.vertices=16")?;
+//! let hair = scene.load_hair()?;
+//! assert_eq!((hair[0].strand_count(), hair[0].vertex_count()), (200, 3200));
+//!
+//! let error = Scene::from_str("[camera]\nfov = 35\n", ".").unwrap_err();
+//! assert!(error.to_string().contains("unknown field `fov`"));
+//! # Ok::<(), tress_scene::SceneError>(())
+//! ```
+//!
 //! - **Unknown keys are errors** that name the key and its line:
 //!   `scene.toml: line 4, column 1: unknown field `fov`, expected one of `eye`, ...`. Values are
 //!   then range-checked ([`Scene::validate`]); those errors name the dotted key

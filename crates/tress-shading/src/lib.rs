@@ -6,6 +6,23 @@
 //! so the math can be unit-tested for its properties without a GPU. Names follow the papers'
 //! symbols (design rule 5); every item cites its paper, section and equation.
 //!
+//! ```
+//! use glam::{Vec3, Vec4};
+//! use tress_shading::{KajiyaKay, blend_front_to_back, composite_over_background, kajiya_kay};
+//!
+//! // A vertical strand lit and seen head-on: both Kajiya-Kay lobes at their peak.
+//! let kk = KajiyaKay::default();
+//! let (t, l, v) = (Vec3::Y, Vec3::Z, Vec3::Z);
+//! let color = kajiya_kay(&kk, t, l, v);
+//! assert!(color.abs_diff_eq(kk.diffuse + kk.specular, 1e-5));
+//!
+//! // Two such fragments of alpha 0.5, front to back, over a white background.
+//! let acc = blend_front_to_back(blend_front_to_back(Vec4::ZERO, color, 0.5), color, 0.5);
+//! assert_eq!(acc.w, 0.75);
+//! let pixel = composite_over_background(acc, Vec3::ONE);
+//! assert!(pixel.abs_diff_eq(0.75 * color + Vec3::splat(0.25), 1e-5));
+//! ```
+//!
 //! # Conventions
 //!
 //! - Every direction points *away* from the shaded point: `l` towards the light, `v` towards the

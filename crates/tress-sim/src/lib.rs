@@ -1,6 +1,25 @@
 //! Strand simulation for tress: the settings (`[simulation]`), the head's motion
 //! (`[head.motion]`), the colliders, and the CPU twin of the GPU solver's step. No GPU.
 //!
+//! ```
+//! use glam::Vec3;
+//! use tress_hair::HairAsset;
+//! use tress_sim::{GuideChoice, Rigid, SimSettings, Simulation};
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! // One strand of 8 vertices hanging from its root at the origin, every strand a guide.
+//! let asset = HairAsset::from_counts((0..8).map(|i| -0.5 * i as f32 * Vec3::Y).collect(), &[8])?;
+//! let settings = SimSettings::default();
+//! let guides = GuideChoice::Share(1.0);
+//! let mut sim = Simulation::new(&asset, None, &settings, &guides, Rigid::IDENTITY)?;
+//!
+//! // One second with the head sliding 2 units along x: 60 fixed steps at the default 60 Hz.
+//! let slide = |t: f32| Rigid { translation: Vec3::new(2.0 * t, 0.0, 0.0), ..Rigid::IDENTITY };
+//! assert_eq!(sim.advance_to(1.0, slide), 60);
+//! let moved = sim.to_asset(&asset)?;
+//! assert!(moved.strand(0)[0].abs_diff_eq(Vec3::new(2.0, 0.0, 0.0), 1e-4)); // the root follows
+//! # Ok(()) }
+//! ```
+//!
 //! # The model
 //!
 //! Guides are simulated; followers are rebuilt from them ([`follow`]). An asset without guides

@@ -9,6 +9,23 @@
 //! read back ([`tress_render::read_texture`]), so they are exactly what `tress render` would
 //! write for the same camera.
 //!
+//! The window's camera is an [`OrbitCamera`] about the scene camera's target, which needs no
+//! window or GPU:
+//!
+//! ```
+//! use tress_viewer::{OrbitCamera, ZOOM_PER_LINE};
+//!
+//! let scene = tress_scene::Scene::from_str("", ".")?; // the default scene
+//! let mut orbit = OrbitCamera::from_scene(&scene.camera);
+//! assert!(orbit.eye().abs_diff_eq(scene.camera.eye, 1e-3)); // the first frame: the scene's camera
+//! let distance = orbit.distance;
+//! orbit.orbit(120.0, 0.0); // a left drag 120 pixels to the right
+//! orbit.zoom(1.0); // one wheel line towards the target
+//! assert!((orbit.distance - ZOOM_PER_LINE * distance).abs() < 1e-4 * distance);
+//! let camera = orbit.camera([1280, 720]); // what the session renders with
+//! # Ok::<(), tress_scene::SceneError>(())
+//! ```
+//!
 //! Controls: left drag orbits about the camera target, middle drag pans, the wheel zooms. Keys:
 //! T the next technique ([`tress_render::session::TechniqueKind::NAMES`] order: the five, then
 //! `auto`), L rotates the lights
