@@ -1,5 +1,22 @@
 //! The `tress` command-line tool: inspect, generate, convert and render hair assets.
 //!
+//! It is the front end of the other tress crates: it reads hair files and scenes
+//! (`tress-hair`, `tress-scene`), renders them with any technique on the GPU (`tress-render`),
+//! ray-traces their reference images (`tress-trace`), simulates them (`tress-sim`) and opens the
+//! viewer (`tress-viewer`). `tress --help` lists the commands, `tress COMMAND --help` their
+//! options. For example, in a scratch folder:
+//!
+//! ```sh
+//! tress generate curly -o curly.hair --strands 2000 --vertices 24
+//! tress info curly.hair
+//! tress convert --follow 1 curly.hair curly.usda
+//! tress reference curly.usda -o reference.png --width 160 --height 120 --spp 4
+//! tress render curly.usda -o strands.png --technique strands --width 160 --height 120
+//! ```
+//!
+//! A binary's doc comments are not doc tests: `tests/cli_front_page.rs` runs these commands
+//! (the last one needs a GPU adapter).
+//!
 //! Every error is printed as one line on stderr (`tress: <file>: <problem>`) and the process
 //! exits with status 2.
 
