@@ -2,6 +2,8 @@
 //! from memory as `.hair`, `.tfx` 4.x, `.usdc` (written by our USD writer through openusd),
 //! `.abc` (written by `tress-alembic`'s minimal Ogawa writer) and `.data`. Run with
 //! `cargo bench -p tress-hair --bench read`; divan reports bytes per second of file read.
+//! `read_hair_ponytail` reads the generated ponytail (136,320 × 16), the Python package's
+//! load benchmark's file.
 
 use divan::counter::BytesCount;
 use divan::{Bencher, black_box};
@@ -10,9 +12,10 @@ use tress_alembic::Scope;
 use tress_alembic::write::{CurvesOut, write};
 use tress_hair::HairAsset;
 use tress_hair::formats::{
-    ReadOptions, UsdFlavor, read_abc, read_data, read_hair, read_tfx, read_usd_bytes, write_data,
-    write_hair, write_tfx, write_usd,
+    Format, ReadOptions, UsdFlavor, read_abc, read_data, read_hair, read_tfx, read_usd_bytes,
+    write_data, write_hair, write_tfx, write_usd,
 };
+use tress_hair::generate::{Style, StyleParams, generate};
 
 const STRANDS: usize = 136_000;
 const VERTICES: usize = 16;
@@ -57,6 +60,23 @@ fn hair_all_arrays(bencher: Bencher<'_, '_>) {
     bencher
         .counter(BytesCount::of_slice(&bytes))
         .bench(|| read_hair(black_box(&bytes)).expect("readable"));
+}
+
+/// The generated ponytail at the scale of the paper's test asset (136,320 strands, here with 16
+/// vertices each, plus per-vertex thickness): exactly the file `crates/tress-py/bench/bench_load.py`
+/// writes with `tress.generate("ponytail", vertices=16)` and reads through `tress.load`, so the two
+/// times compare (this one reads from memory; the Python one also reads the file).
+#[divan::bench(sample_count = 20)]
+fn read_hair_ponytail(bencher: Bencher<'_, '_>) {
+    let params = StyleParams {
+        vertices: 16,
+        ..Style::Ponytail.default_params()
+    };
+    let asset = generate(Style::Ponytail, &params).expect("valid parameters");
+    let bytes = Format::Hair.write(&asset).expect("writable");
+    bencher
+        .counter(BytesCount::of_slice(&bytes))
+        .bench(|| Format::Hair.read(black_box(&bytes)).expect("readable"));
 }
 
 #[divan::bench]
