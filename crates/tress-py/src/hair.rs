@@ -153,17 +153,17 @@ pub(crate) fn follow<'py>(
     asset_dict(py, asset)
 }
 
+/// A mesh as numpy arrays: vertices (V, 3) float32 and faces (F, 3) int32.
+type MeshArrays<'py> = (
+    Bound<'py, numpy::PyArray2<f32>>,
+    Bound<'py, numpy::PyArray2<i32>>,
+);
+
 /// The generated head the styles grow from (the body for `fur`), as (vertices (V, 3) float32,
 /// faces (F, 3) int32).
 #[pyfunction]
 #[pyo3(signature = (style = "straight"))]
-pub(crate) fn generated_head<'py>(
-    py: Python<'py>,
-    style: &str,
-) -> PyResult<(
-    Bound<'py, numpy::PyArray2<f32>>,
-    Bound<'py, numpy::PyArray2<i32>>,
-)> {
+pub(crate) fn generated_head<'py>(py: Python<'py>, style: &str) -> PyResult<MeshArrays<'py>> {
     let style: Style = style.parse().map_err(file_error)?;
     let mesh = generators::shape_for(style).mesh(&generators::head_for(style), 64);
     let v: Vec<f32> = mesh.positions.iter().flat_map(|p| p.to_array()).collect();

@@ -7,6 +7,7 @@ use numpy::{IntoPyArray, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use tress_render::maps::MapRenderer;
 use tress_render::scene_setup::{PreparedHair, hair_material};
 use tress_render::session::{Session, SessionOptions, technique_kind};
 use tress_render::{
@@ -47,6 +48,73 @@ fn mat4(a: &PyReadonlyArray2<'_, f32>, name: &str) -> PyResult<Mat4> {
     Ok(Mat4::from_cols_array(&cols).transpose())
 }
 
+/// What a render call gathers over its views, flat and in view order.
+#[derive(Default)]
+struct Frames {
+    rgb: Vec<f32>,
+    alpha: Vec<f32>,
+    strand_id: Vec<i32>,
+    direction: Vec<f32>,
+    depth: Vec<f32>,
+    head: Vec<bool>,
+}
+
+impl Renderer {
+    /// The shaded frames (`rgb`, `alpha`) of every camera through one [`Session`].
+    #[allow(clippy::too_many_arguments)]
+    fn shade(
+        &self,
+        asset: tress_hair::HairAsset,
+        head: Option<TriMesh>,
+        kind: TechniqueKind,
+        technique: String,
+        settings: Vec<String>,
+        background: (f32, f32, f32),
+        cameras: &[Camera],
+        frames: &mut Frames,
+    ) -> PyResult<()> {
+        let [width, height] = cameras[0].viewport;
+        let mut scene = tress_scene::Scene::default();
+        scene.technique = technique;
+        scene.background = Vec3::from(background);
+        scene.output.width = width;
+        scene.output.height = height;
+        let material = hair_material(&tress_scene::Material::default()).map_err(render_error)?;
+        let hair = PreparedHair {
+            asset,
+            material,
+            technique: kind,
+        };
+        let options = SessionOptions {
+            overrides: settings,
+            ..SessionOptions::default()
+        };
+        let mut session = Session::with_hair(
+            &self.ctx,
+            TargetFormats::default(),
+            scene,
+            vec![hair],
+            head,
+            options,
+        )
+        .map_err(render_error)?;
+        session.set_transparent_background(true);
+        let targets = OffscreenTargets::new(&self.ctx, [width, height], COLOR_FORMAT)
+            .map_err(render_error)?;
+        for camera in cameras {
+            session
+                .render(&self.ctx, &targets.targets(), camera, None)
+                .map_err(render_error)?;
+            let image = read_texture(&self.ctx, &targets.color).map_err(render_error)?;
+            for p in &image.pixels {
+                frames.rgb.extend_from_slice(&p[..3]);
+                frames.alpha.push(p[3]);
+            }
+        }
+        Ok(())
+    }
+}
+
 #[pymethods]
 impl Renderer {
     /// Open the device; `RuntimeError` saying how to install a driver when there is none.
@@ -69,10 +137,12 @@ impl Renderer {
 
     /// Render `hair` from each of `views` at `width` × `height` with `technique`; the head is
     /// None or (vertices (V, 3) float32, faces (F, 3) uint32); `settings` are scene
-    /// `key=value` overrides. Returns `rgb` (linear float32, over the background) and `alpha`
-    /// (coverage of hair and head), shaped (views, H, W, 3) and (views, H, W, 1).
+    /// `key=value` overrides. With `shaded`: `rgb` (linear float32, over the background) and
+    /// `alpha` (coverage of hair and head), shaped (views, H, W, 3) and (views, H, W, 1). With
+    /// `geometry`: `strand_id` (int32, −1 empty, −2 head), `direction` (float32 (dx, dy) in
+    /// pixels, y down), `depth` (float32, inf where empty) and `head` (bool).
     #[pyo3(signature = (hair, views, width, height, technique = "strands", head = None,
-        settings = Vec::new(), background = (0.0, 0.0, 0.0)))]
+        settings = Vec::new(), background = (0.0, 0.0, 0.0), shaded = true, geometry = false))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -85,6 +155,8 @@ impl Renderer {
         head: Option<(PyReadonlyArray2<'py, f32>, PyReadonlyArray2<'py, u32>)>,
         settings: Vec<String>,
         background: (f32, f32, f32),
+        shaded: bool,
+        geometry: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let kind = technique_kind(technique).map_err(render_error)?;
         if matches!(kind, TechniqueKind::Satf) {
@@ -130,58 +202,56 @@ impl Renderer {
             .transpose()?;
         let technique = technique.to_owned();
         let (w, h, n) = (width as usize, height as usize, cameras.len());
-        let (rgb, alpha) = py.detach(|| -> PyResult<(Vec<f32>, Vec<f32>)> {
+        if n == 0 {
+            return Err(PyValueError::new_err("render needs at least one view"));
+        }
+        let frames = py.detach(|| -> PyResult<Frames> {
             let asset = vecs.into_asset()?;
-            let mut scene = tress_scene::Scene::default();
-            scene.technique = technique;
-            scene.background = Vec3::from(background);
-            scene.output.width = width;
-            scene.output.height = height;
-            let material =
-                hair_material(&tress_scene::Material::default()).map_err(render_error)?;
-            let hair = PreparedHair {
-                asset,
-                material,
-                technique: kind,
-            };
-            let options = SessionOptions {
-                overrides: settings,
-                ..SessionOptions::default()
-            };
-            let mut session = Session::with_hair(
-                &self.ctx,
-                TargetFormats::default(),
-                scene,
-                vec![hair],
-                head,
-                options,
-            )
-            .map_err(render_error)?;
-            session.set_transparent_background(true);
-            let targets = OffscreenTargets::new(&self.ctx, [width, height], COLOR_FORMAT)
-                .map_err(render_error)?;
-            let mut rgb = Vec::with_capacity(n * w * h * 3);
-            let mut alpha = Vec::with_capacity(n * w * h);
-            for camera in &cameras {
-                session
-                    .render(&self.ctx, &targets.targets(), camera, None)
-                    .map_err(render_error)?;
-                let image = read_texture(&self.ctx, &targets.color).map_err(render_error)?;
-                for p in &image.pixels {
-                    rgb.extend_from_slice(&p[..3]);
-                    alpha.push(p[3]);
+            let mut frames = Frames::default();
+            if geometry {
+                let maps =
+                    MapRenderer::new(&self.ctx, &asset, head.as_ref()).map_err(render_error)?;
+                for camera in &cameras {
+                    let m = maps.render(&self.ctx, camera).map_err(render_error)?;
+                    frames.strand_id.extend_from_slice(&m.strand_id);
+                    frames.direction.extend(m.direction.iter().flatten());
+                    frames.depth.extend_from_slice(&m.depth);
+                    frames.head.extend(m.head.iter().copied());
                 }
             }
-            Ok((rgb, alpha))
+            if shaded {
+                self.shade(
+                    asset,
+                    head,
+                    kind,
+                    technique,
+                    settings,
+                    background,
+                    &cameras,
+                    &mut frames,
+                )?;
+            }
+            Ok(frames)
         })?;
         let d = PyDict::new(py);
-        let shape = |c| (n, h, w, c);
-        let rgb = Array4::from_shape_vec(shape(3), rgb)
-            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-        let alpha = Array4::from_shape_vec(shape(1), alpha)
-            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-        d.set_item("rgb", rgb.into_pyarray(py))?;
-        d.set_item("alpha", alpha.into_pyarray(py))?;
+        let array = |c: usize, v: Vec<f32>| {
+            Array4::from_shape_vec((n, h, w, c), v)
+                .map_err(|e| PyRuntimeError::new_err(e.to_string()))
+        };
+        if shaded {
+            d.set_item("rgb", array(3, frames.rgb)?.into_pyarray(py))?;
+            d.set_item("alpha", array(1, frames.alpha)?.into_pyarray(py))?;
+        }
+        if geometry {
+            let ids = Array4::from_shape_vec((n, h, w, 1), frames.strand_id)
+                .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+            let heads = Array4::from_shape_vec((n, h, w, 1), frames.head)
+                .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+            d.set_item("strand_id", ids.into_pyarray(py))?;
+            d.set_item("direction", array(2, frames.direction)?.into_pyarray(py))?;
+            d.set_item("depth", array(1, frames.depth)?.into_pyarray(py))?;
+            d.set_item("head", heads.into_pyarray(py))?;
+        }
         Ok(d)
     }
 }

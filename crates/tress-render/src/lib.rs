@@ -67,6 +67,7 @@ pub mod gpu;
 pub mod head;
 pub mod hybrid;
 mod inputs;
+pub mod maps;
 pub mod patches;
 pub mod satf;
 pub mod scene_setup;

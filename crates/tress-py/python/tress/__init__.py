@@ -16,7 +16,7 @@ from . import _tress
 from ._camera import Camera, orbit
 from ._dataset import render_dataset
 from ._hair import Hair, generate, load, save, styles
-from ._render import MAPS, Renderer
+from ._render import MAPS, ORIENTATIONS, Renderer, encode_orientation
 
 HairError = _tress.HairError
 
@@ -25,7 +25,9 @@ __all__ = [
     "Hair",
     "HairError",
     "MAPS",
+    "ORIENTATIONS",
     "Renderer",
+    "encode_orientation",
     "generate",
     "load",
     "orbit",

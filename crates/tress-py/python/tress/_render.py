@@ -10,13 +10,46 @@ from . import _tress
 from ._camera import Camera
 from ._hair import Hair, _array
 
-MAPS = ("rgb", "alpha")
-"""The maps :meth:`Renderer.render` returns, each (views, H, W, C):
+MAPS = ("rgb", "alpha", "depth", "mask", "body_mask", "strand_id", "direction", "orientation")
+"""The maps :meth:`Renderer.render` returns, each shaped (views, H, W, C), row 0 at the top.
+
+Shaded (the technique's frame):
 
 * ``rgb``: the frame as ``tress render`` draws it over ``background``; linear float32, or
   sRGB uint8 with ``rgb_format="srgb8"`` (what ``tress render`` writes to PNG).
 * ``alpha``: float32 coverage in [0, 1] of the hair and the head (C = 1).
+
+Geometry (strands drawn as 1-pixel lines and the head as triangles, the nearest surface wins;
+the same for every technique):
+
+* ``depth``: float32 depth of the nearest surface (hair or head) along the view direction
+  (OpenCV's camera z, positive in front; the distance along the axis for orthographic
+  cameras), ``inf`` where empty (C = 1).
+* ``mask``: bool, a strand is the nearest surface (C = 1).
+* ``body_mask``: bool, the head covers the pixel, behind hair or not (C = 1).
+* ``strand_id``: int32 index of the nearest strand in ``hair``, −1 where no strand is nearest
+  (C = 1).
+* ``direction``: float32 (dx, dy), the nearest strand segment's projected direction from root
+  to tip, unit length in pixels, x right and y down; (0, 0) where no strand (C = 2).
+* ``orientation``: the direction in the encoding ``orientation=`` names (:data:`ORIENTATIONS`).
 """
+
+ORIENTATIONS = ("angle", "angle_deg", "hairstep", "monohair", "monohair_undirected")
+"""Encodings of the ``orientation`` map. With (dx, dy) the ``direction`` map (y down) and
+θ = atan2(−dy, dx) the directed angle in the image, counter-clockwise from +x with y up:
+
+* ``"angle"``: θ mod π in [0, π), float32 radians, undirected (C = 1); 0 where no strand.
+* ``"angle_deg"``: that angle in whole degrees, round(θ · 180 / π) mod 180, uint8 (C = 1): the
+  encoding of NeuralHaircut's orientation PNGs.
+* ``"hairstep"``: HairStep's strand map, float32 (C = 3): R = mask + 0.5 × body_mask where no
+  strand is nearest (1 on hair, 0.5 on visible body, 0 elsewhere); G, B = the directed 2-D
+  direction d = (cos θ, sin θ) (y up) as ((−d.x + 1) / 2, (d.y + 1) / 2) on hair, 0 elsewhere.
+* ``"monohair"``: MonoHair's directed map ((cos θ, sin θ, 0) + 1) / 2 on hair, 0 elsewhere,
+  float32 (C = 3).
+* ``"monohair_undirected"``: ((cos 2θ, sin 2θ, 0) + 1) / 2 on hair, 0 elsewhere, float32 (C = 3).
+"""
+
+SHADED = ("rgb", "alpha")
 
 TECHNIQUES = ("strands", "volume", "hybrid", "auto", "patches")
 
@@ -44,14 +77,17 @@ class Renderer:
     def render(self, hair: Hair, cameras: Union[Camera, Sequence[Camera]], technique: str = "strands",
                maps: Iterable[str] = ("rgb", "alpha"), head=None, width: Optional[int] = None,
                height: Optional[int] = None, settings: Optional[dict] = None,
-               background: Sequence[float] = (0.0, 0.0, 0.0), rgb_format: str = "linear") -> dict:
+               background: Sequence[float] = (0.0, 0.0, 0.0), rgb_format: str = "linear",
+               orientation: str = "angle") -> dict:
         """Render ``hair`` from each camera; returns ``{map: array (views, H, W, C)}``.
 
         ``technique``: strands, volume, hybrid, auto or patches. ``head``: None, ``"generated"``
         (the head tress's generators grow hair from) or ``(vertices (V, 3), faces (F, 3))``.
         ``width``/``height`` default to the cameras' (all cameras must share one size).
         ``settings``: scene keys, e.g. ``{"strands.shading": "marschner"}`` (the scene file
-        reference lists them). ``background``: linear RGB behind the hair.
+        reference lists them). ``background``: linear RGB behind the hair. ``maps``: any of
+        :data:`MAPS`; ``orientation``: the encoding of the ``orientation`` map
+        (:data:`ORIENTATIONS`).
         """
         if not isinstance(hair, Hair):
             raise TypeError(f"hair must be a tress.Hair, got {type(hair).__name__}")
@@ -71,6 +107,8 @@ class Renderer:
             raise ValueError(f"unknown map(s) {unknown}; valid maps: {', '.join(MAPS)}")
         if technique not in TECHNIQUES:
             raise ValueError(f"unknown technique {technique!r}; valid: {', '.join(TECHNIQUES)}")
+        if orientation not in ORIENTATIONS:
+            raise ValueError(f"unknown orientation encoding {orientation!r}; valid: {', '.join(ORIENTATIONS)}")
         if rgb_format not in ("linear", "srgb8"):
             raise ValueError(f'rgb_format must be "linear" or "srgb8", got {rgb_format!r}')
         bg = _array(background, "background", np.float32, (3,))
@@ -91,15 +129,55 @@ class Renderer:
                 raise ValueError(f"head faces must index the {len(v)} head vertices")
             head_arrays = (v, f.astype(np.uint32))
         sets = [f"{k}={_setting(v)}" for k, v in (settings or {}).items()]
+        shaded = any(m in SHADED for m in maps)
+        geometry = any(m not in SHADED for m in maps)
         out = self._r.render(hair._arrays(), [c._matrices() for c in cams], w, h, technique,
-                             head_arrays, sets, tuple(float(x) for x in bg))
+                             head_arrays, sets, tuple(float(x) for x in bg), shaded, geometry)
         result = {}
         for m in maps:
-            a = out[m]
-            if m == "rgb" and rgb_format == "srgb8":
-                a = _srgb8(a)
-            result[m] = a
+            if m in SHADED:
+                a = out[m]
+                result[m] = _srgb8(a) if m == "rgb" and rgb_format == "srgb8" else a
+            else:
+                result[m] = _geometry_map(m, out, orientation)
         return result
+
+
+def _geometry_map(name: str, out: dict, orientation: str) -> np.ndarray:
+    ids = out["strand_id"]
+    mask = ids >= 0
+    if name == "depth":
+        return out["depth"]
+    if name == "mask":
+        return mask
+    if name == "body_mask":
+        return out["head"]
+    if name == "strand_id":
+        return np.where(mask, ids, np.int32(-1)).astype(np.int32)
+    if name == "direction":
+        return out["direction"]
+    return encode_orientation(out["direction"], mask, out["head"], orientation)
+
+
+def encode_orientation(direction: np.ndarray, mask: np.ndarray, body: np.ndarray, encoding: str) -> np.ndarray:
+    """The ``direction`` map (…, 2) in one of :data:`ORIENTATIONS` (see there)."""
+    dx, dy = direction[..., 0:1], direction[..., 1:2]
+    theta = np.arctan2(-dy, dx)  # y up, counter-clockwise from +x
+    m = mask.astype(np.float32)
+    if encoding == "angle":
+        return (np.mod(theta, np.pi) * m).astype(np.float32)
+    if encoding == "angle_deg":
+        deg = np.mod(np.round(np.degrees(np.mod(theta, np.pi))), 180)
+        return (deg * m).astype(np.uint8)
+    if encoding == "hairstep":
+        r = m + 0.5 * body.astype(np.float32) * (1 - m)
+        g = (-np.cos(theta) + 1) / 2 * m
+        b = (np.sin(theta) + 1) / 2 * m
+        return np.concatenate([r, g, b], axis=-1).astype(np.float32)
+    k = 2.0 if encoding == "monohair_undirected" else 1.0
+    c = (np.cos(k * theta) + 1) / 2 * m
+    s = (np.sin(k * theta) + 1) / 2 * m
+    return np.concatenate([c, s, 0.5 * m], axis=-1).astype(np.float32)
 
 
 def _setting(v) -> str:

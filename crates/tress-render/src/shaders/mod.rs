@@ -65,6 +65,7 @@ pub const SOURCES: &[(&str, &str)] = &[
         "common/fullscreen.wgsl",
         include_str!("common/fullscreen.wgsl"),
     ),
+    ("maps/maps.wgsl", include_str!("../maps/maps.wgsl")),
     (
         "head/head_pass.wgsl",
         include_str!("../head/head_pass.wgsl"),
