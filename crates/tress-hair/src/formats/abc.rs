@@ -208,25 +208,7 @@ fn in_format(e: HairError) -> HairError {
 /// frame, `1 / fps` seconds apart from `1 / fps` (frame 1 in Blender), which Blender and the
 /// Alembic library read as animated curves.
 pub fn write_abc(asset: &HairAsset, frames: &[Vec<Vec3>], fps: f64) -> Result<Vec<u8>, HairError> {
-    if !(fps.is_finite() && fps > 0.0) {
-        return Err(HairError::format(
-            FORMAT,
-            format!("frames per second must be positive, not {fps}"),
-        ));
-    }
-    if let Some(k) = frames
-        .iter()
-        .position(|f| f.len() != asset.positions().len())
-    {
-        return Err(HairError::format(
-            FORMAT,
-            format!(
-                "frame {k} has {} points, the hair {}",
-                frames[k].len(),
-                asset.positions().len()
-            ),
-        ));
-    }
+    super::check_frames(asset, frames, fps).map_err(|reason| HairError::format(FORMAT, reason))?;
     let counts = asset
         .vertex_counts()
         .map(i32::try_from)

@@ -363,6 +363,29 @@ pub fn write_cache_path(
     std::fs::write(path, bytes).map_err(|e| HairError::from(e).in_file(path))
 }
 
+/// Why `frames` at `fps` cannot be an animated cache of `asset` (a rate that is not finite and
+/// positive, or a frame with another point count), shared by the Alembic and USD writers.
+pub(crate) fn check_frames(
+    asset: &HairAsset,
+    frames: &[Vec<glam::Vec3>],
+    fps: f64,
+) -> Result<(), String> {
+    if !(fps.is_finite() && fps > 0.0) {
+        return Err(format!("frames per second must be positive, not {fps}"));
+    }
+    match frames
+        .iter()
+        .position(|f| f.len() != asset.positions().len())
+    {
+        Some(k) => Err(format!(
+            "frame {k} has {} points, the hair {}",
+            frames[k].len(),
+            asset.positions().len()
+        )),
+        None => Ok(()),
+    }
+}
+
 /// Read several hair files (each by its extension) and merge them in order with
 /// [`HairAsset::merge`]: a TressFX character often comes as one `.tfx` per hair part.
 pub fn read_paths(paths: &[PathBuf]) -> Result<HairAsset, HairError> {

@@ -55,21 +55,7 @@ fn write_usd_frames(
         if frames.is_empty() {
             return Err(err("an animated cache needs at least one frame"));
         }
-        if !(fps.is_finite() && fps > 0.0) {
-            return Err(err(format!(
-                "frames per second must be positive, not {fps}"
-            )));
-        }
-        if let Some(k) = frames
-            .iter()
-            .position(|f| f.len() != asset.positions().len())
-        {
-            return Err(err(format!(
-                "frame {k} has {} points, the hair {}",
-                frames[k].len(),
-                asset.positions().len()
-            )));
-        }
+        crate::formats::check_frames(asset, frames, fps).map_err(err)?;
     }
     let counts = asset
         .vertex_counts()
