@@ -1,7 +1,9 @@
 //! The extension module `tress._tress` of the Python package `tress` (python/tress): hair files
 //! into numpy arrays and back, the generators, resampling and follow hairs, and a renderer whose
-//! frames come back as arrays. A thin layer over tress-hair and tress-render: no file or
-//! rendering logic of its own. Every call that reads, writes or renders releases the GIL.
+//! frames come back as arrays, the CPU reference path tracer, and strands into voxel volumes.
+//! A thin layer over tress-hair, tress-render and tress-trace: no file or rendering logic of its
+//! own (the voxel walk of `voxel.rs` is the exception: no crate has one over an arbitrary grid).
+//! Every call that reads, writes, renders, traces or voxelizes releases the GIL.
 
 use pyo3::prelude::*;
 
@@ -9,6 +11,8 @@ mod arrays;
 mod error;
 mod hair;
 mod render;
+mod trace;
+mod voxel;
 
 /// The module: functions over plain arrays; the Python package wraps them in `Hair`, `Camera`
 /// and `Renderer`.
@@ -29,5 +33,7 @@ fn _tress(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(hair::follow, m)?)?;
     m.add_function(wrap_pyfunction!(hair::generated_head, m)?)?;
     m.add_class::<render::Renderer>()?;
+    m.add_function(wrap_pyfunction!(trace::path_trace, m)?)?;
+    m.add_function(wrap_pyfunction!(voxel::voxelize, m)?)?;
     Ok(())
 }

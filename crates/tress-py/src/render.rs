@@ -30,10 +30,10 @@ pub(crate) struct Renderer {
 }
 
 /// One view: world-to-view and clip-from-view matrices, row-major (4, 4) float32.
-type View<'py> = (PyReadonlyArray2<'py, f32>, PyReadonlyArray2<'py, f32>);
+pub(crate) type View<'py> = (PyReadonlyArray2<'py, f32>, PyReadonlyArray2<'py, f32>);
 
 /// A (4, 4) row-major array as a matrix.
-fn mat4(a: &PyReadonlyArray2<'_, f32>, name: &str) -> PyResult<Mat4> {
+pub(crate) fn mat4(a: &PyReadonlyArray2<'_, f32>, name: &str) -> PyResult<Mat4> {
     if a.shape() != [4, 4] {
         return Err(PyValueError::new_err(format!(
             "{name} must have shape (4, 4), got {:?}",
@@ -46,6 +46,30 @@ fn mat4(a: &PyReadonlyArray2<'_, f32>, name: &str) -> PyResult<Mat4> {
     let mut cols = [0f32; 16];
     cols.copy_from_slice(s);
     Ok(Mat4::from_cols_array(&cols).transpose())
+}
+
+/// A head given as (vertices (V, 3) float32, faces (F, 3) uint32), as a mesh.
+pub(crate) fn head_mesh(
+    (v, f): (PyReadonlyArray2<'_, f32>, PyReadonlyArray2<'_, u32>),
+) -> PyResult<TriMesh> {
+    if v.shape()[1] != 3 || f.shape()[1] != 3 {
+        return Err(PyValueError::new_err(format!(
+            "head must be (vertices (V, 3), faces (F, 3)), got {:?} and {:?}",
+            v.shape(),
+            f.shape()
+        )));
+    }
+    let positions = v
+        .as_slice()
+        .map_err(|_| PyValueError::new_err("head vertices must be C-contiguous"))?
+        .chunks_exact(3)
+        .map(Vec3::from_slice)
+        .collect();
+    let indices = f
+        .as_slice()
+        .map_err(|_| PyValueError::new_err("head faces must be C-contiguous"))?
+        .to_vec();
+    TriMesh::from_triangles(positions, indices).map_err(value_error)
 }
 
 /// What a render call gathers over its views, flat and in view order.
@@ -178,28 +202,7 @@ impl Renderer {
                 Ok(camera)
             })
             .collect::<PyResult<Vec<_>>>()?;
-        let head = head
-            .map(|(v, f)| {
-                if v.shape()[1] != 3 || f.shape()[1] != 3 {
-                    return Err(PyValueError::new_err(format!(
-                        "head must be (vertices (V, 3), faces (F, 3)), got {:?} and {:?}",
-                        v.shape(),
-                        f.shape()
-                    )));
-                }
-                let positions = v
-                    .as_slice()
-                    .map_err(|_| PyValueError::new_err("head vertices must be C-contiguous"))?
-                    .chunks_exact(3)
-                    .map(Vec3::from_slice)
-                    .collect();
-                let indices = f
-                    .as_slice()
-                    .map_err(|_| PyValueError::new_err("head faces must be C-contiguous"))?
-                    .to_vec();
-                TriMesh::from_triangles(positions, indices).map_err(value_error)
-            })
-            .transpose()?;
+        let head = head.map(head_mesh).transpose()?;
         let technique = technique.to_owned();
         let (w, h, n) = (width as usize, height as usize, cameras.len());
         if n == 0 {

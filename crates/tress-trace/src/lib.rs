@@ -40,6 +40,9 @@
 //!   rasterizer's defaults (0.6, 1.5 px, Kajiya-Kay, tip). The camera is a pinhole with the
 //!   scene's eye, target, up, vertical field of view and output size, clipped to its near and
 //!   far planes; pixel `(x, y)` covers the same film area as the GPU's pixel.
+//!   [`Tracer::with_camera`] takes any view and projection matrix pair instead ([`ViewCamera`],
+//!   the GPU's convention: off-centre, skewed and orthographic projections included); its rays
+//!   run from the unprojected NDC point at clip depth 0 to the one at depth 1.
 //! - **Strands** are chains of capsules ([`geometry`]): each segment is a cylinder with
 //!   half-sphere caps, its radius interpolated along the segment; caps count only at the root
 //!   and the tip, so a ray through a joint crosses a translucent strand once. Their width
@@ -156,7 +159,9 @@ mod tracer;
 pub use error::TraceError;
 pub use image::{DisplayImage, Image, ImageKind, linear_to_srgb};
 pub use settings::{Aov, SETTING_NAMES, StrandWidth, TraceSettings};
-pub use tracer::{HEAD_COLOR, HEAD_SUBDIVISIONS, Rendered, SceneGeometry, TraceStats, Tracer};
+pub use tracer::{
+    HEAD_COLOR, HEAD_SUBDIVISIONS, Rendered, SceneGeometry, TraceStats, Tracer, ViewCamera,
+};
 
 /// Render the reference image of `scene` with `settings`: load its geometry, build the tracer
 /// and render (no progress reporting). This is what quality comparisons of the GPU techniques

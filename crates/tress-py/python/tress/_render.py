@@ -112,22 +112,7 @@ class Renderer:
         if rgb_format not in ("linear", "srgb8"):
             raise ValueError(f'rgb_format must be "linear" or "srgb8", got {rgb_format!r}')
         bg = _array(background, "background", np.float32, (3,))
-        head_arrays = None
-        if isinstance(head, str):
-            if head != "generated":
-                raise ValueError(f'head must be None, "generated" or (vertices, faces), got {head!r}')
-            v, f = _tress.generated_head()
-            head_arrays = (v, f.astype(np.uint32))
-        elif head is not None:
-            try:
-                v, f = head
-            except (TypeError, ValueError):
-                raise TypeError("head must be None, \"generated\" or (vertices (V, 3), faces (F, 3))") from None
-            v = _array(v, "head vertices", np.float32, ("V", 3))
-            f = _array(f, "head faces", np.int64, ("F", 3))
-            if len(f) and (f.min() < 0 or f.max() >= len(v)):
-                raise ValueError(f"head faces must index the {len(v)} head vertices")
-            head_arrays = (v, f.astype(np.uint32))
+        head_arrays = _head(head)
         sets = [f"{k}={_setting(v)}" for k, v in (settings or {}).items()]
         shaded = any(m in SHADED for m in maps)
         geometry = any(m not in SHADED for m in maps)
@@ -141,6 +126,76 @@ class Renderer:
             else:
                 result[m] = _geometry_map(m, out, orientation)
         return result
+
+    def path_trace(self, hair: Hair, cameras: Union[Camera, Sequence[Camera]], spp: int = 16,
+                   shading: str = "marschner", fiber: Optional[dict] = None, head=None,
+                   settings: Optional[dict] = None, background: Sequence[float] = (0.0, 0.0, 0.0),
+                   seed: int = 0) -> np.ndarray:
+        """The CPU reference path tracer (what ``tress reference`` runs) through each camera,
+        exactly as given (any view and projection matrices); float32 linear RGB shaped
+        (views, H, W, 3) over ``background``. Needs no GPU; the same ``seed`` gives the same
+        frames.
+
+        ``shading``: ``"marschner"`` (Chiang et al. 2016's fibres, a path tracer) or
+        ``"kajiya-kay"``. ``fiber``: ``[hair.material]`` keys of the fibre (:data:`FIBER_KEYS`),
+        e.g. ``{"eumelanin": 0.3, "beta_m": 0.25}``. ``head`` as for :meth:`render`.
+        ``settings``: scene keys as for :meth:`render`, and the tracer's own as ``trace.NAME``
+        (``trace.bounces``, ``trace.ao_samples``, ``trace.width``...).
+        """
+        cams = _cameras(cameras)
+        fiber = dict(fiber or {})
+        unknown = [k for k in fiber if k not in FIBER_KEYS]
+        if unknown:
+            raise ValueError(f"unknown fiber key(s) {unknown}; valid: {', '.join(FIBER_KEYS)}")
+        if int(spp) < 1:
+            raise ValueError(f"spp must be at least 1, got {spp}")
+        bg = _array(background, "background", np.float32, (3,))
+        return _tress.path_trace(hair._arrays(), [c._matrices() for c in cams], cams[0].width, cams[0].height,
+                                 int(spp), shading, [(k, _setting(v)) for k, v in fiber.items()],
+                                 _head(head), [f"{k}={_setting(v)}" for k, v in (settings or {}).items()],
+                                 tuple(float(x) for x in bg), int(seed))
+
+
+FIBER_KEYS = ("eumelanin", "pheomelanin", "sigma_a", "target_color", "beta_m", "beta_n", "alpha_deg", "eta",
+              "thickness")
+"""The ``fiber`` keys of :meth:`Renderer.path_trace`: the scene's ``[hair.material]`` keys of the
+physically based fibre (the scene file reference): melanin concentrations ``eumelanin`` and
+``pheomelanin``, or ``sigma_a`` (absorption per fibre radius, RGB), or ``target_color`` (RGB);
+roughness ``beta_m`` and ``beta_n``; cuticle tilt ``alpha_deg``; index of refraction ``eta``;
+and the strand diameter ``thickness`` (world units; default: the hair's own)."""
+
+
+def _cameras(cameras) -> list:
+    """One camera or a sequence of them, checked: at least one, all tress.Camera, one size."""
+    cams = [cameras] if isinstance(cameras, Camera) else list(cameras)
+    if not cams:
+        raise ValueError("cameras must hold at least one Camera")
+    for c in cams:
+        if not isinstance(c, Camera):
+            raise TypeError(f"cameras must be tress.Camera objects, got {type(c).__name__}")
+    if any((c.width, c.height) != (cams[0].width, cams[0].height) for c in cams):
+        raise ValueError(f"every camera must be {cams[0].width}x{cams[0].height}; rebuild them with one size")
+    return cams
+
+
+def _head(head):
+    """``head`` as the extension takes it: None or (vertices float32, faces uint32)."""
+    if head is None:
+        return None
+    if isinstance(head, str):
+        if head != "generated":
+            raise ValueError(f'head must be None, "generated" or (vertices, faces), got {head!r}')
+        v, f = _tress.generated_head()
+        return v, f.astype(np.uint32)
+    try:
+        v, f = head
+    except (TypeError, ValueError):
+        raise TypeError("head must be None, \"generated\" or (vertices (V, 3), faces (F, 3))") from None
+    v = _array(v, "head vertices", np.float32, ("V", 3))
+    f = _array(f, "head faces", np.int64, ("F", 3))
+    if len(f) and (f.min() < 0 or f.max() >= len(v)):
+        raise ValueError(f"head faces must index the {len(v)} head vertices")
+    return v, f.astype(np.uint32)
 
 
 def _geometry_map(name: str, out: dict, orientation: str) -> np.ndarray:

@@ -100,6 +100,22 @@ impl TraceStats {
     }
 }
 
+/// A camera given as matrices, for [`Tracer::with_camera`]: the GPU renderer's convention
+/// (`tress_render::Camera`). Pixel `(x, y)` (origin top-left, `y` down) looks through NDC
+/// `(2x/w - 1, 1 - 2y/h)`; the ray runs from the point at clip depth 0 to the one at depth 1.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewCamera {
+    /// World to view space (OpenGL axes: x right, y up, looking down -z).
+    pub view_from_world: glam::Mat4,
+    /// View to wgpu clip space (x, y in `[-1, 1]`, +y up, depth in `[0, 1]`), perspective or
+    /// orthographic.
+    pub clip_from_view: glam::Mat4,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+}
+
 /// A rendered image and its statistics.
 #[derive(Clone, Debug)]
 pub struct Rendered {
@@ -138,11 +154,35 @@ impl Tracer {
         geometry: &SceneGeometry,
         settings: &TraceSettings,
     ) -> Result<Tracer, TraceError> {
+        Tracer::build(scene, geometry, settings, PinholeCamera::new(scene))
+    }
+
+    /// As [`Tracer::new`], but seen through `camera` (any view and projection matrix pair, at
+    /// its own size) instead of the scene's `[camera]` and `[output]`.
+    pub fn with_camera(
+        scene: &Scene,
+        geometry: &SceneGeometry,
+        settings: &TraceSettings,
+        camera: &ViewCamera,
+    ) -> Result<Tracer, TraceError> {
+        Tracer::build(
+            scene,
+            geometry,
+            settings,
+            PinholeCamera::from_matrices(camera)?,
+        )
+    }
+
+    fn build(
+        scene: &Scene,
+        geometry: &SceneGeometry,
+        settings: &TraceSettings,
+        camera: PinholeCamera,
+    ) -> Result<Tracer, TraceError> {
         let start = Instant::now();
         settings.validate()?;
         scene.validate()?;
         let gpu = GpuStrands::from_scene(scene)?;
-        let camera = PinholeCamera::new(scene);
         let material = scene
             .hair
             .first()

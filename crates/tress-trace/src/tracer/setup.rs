@@ -1,7 +1,7 @@
 //! From a scene to the tracer's primitives: the GPU settings it follows, the camera, strand
 //! segments with their radii and alphas, head triangles, and the BVH references over them.
 
-use glam::Vec3;
+use glam::{DMat4, DVec3, Vec3};
 use rayon::prelude::*;
 use serde::Deserialize;
 use tress_hair::HairAsset;
@@ -151,7 +151,9 @@ impl SceneGeometry {
 }
 
 /// A pinhole camera matching the GPU's `look_at_rh` + `perspective_rh`: pixel `(x, y)` (origin
-/// top-left, `y` down, centres at half-integers) looks through NDC `(2x/w - 1, 1 - 2y/h)`.
+/// top-left, `y` down, centres at half-integers) looks through NDC `(2x/w - 1, 1 - 2y/h)`. Made
+/// from the scene's `[camera]`, or from any view and projection matrix pair
+/// ([`PinholeCamera::from_matrices`]), whose rays go through the same NDC.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct PinholeCamera {
     pub(super) width: u32,
@@ -164,6 +166,10 @@ pub(super) struct PinholeCamera {
     aspect: f32,
     near: f32,
     far: f32,
+    /// With a matrix camera: world-from-clip, rays unproject NDC points at depth 0 and 1.
+    world_from_clip: Option<DMat4>,
+    /// With a matrix camera: orthographic (constant world units per pixel).
+    orthographic: bool,
 }
 
 impl PinholeCamera {
@@ -183,13 +189,77 @@ impl PinholeCamera {
             far: c.far,
             width: scene.output.width,
             height: scene.output.height,
+            world_from_clip: None,
+            orthographic: false,
         }
+    }
+
+    /// A camera from a view (world to view, OpenGL axes) and projection (view to wgpu clip,
+    /// depth in `[0, 1]`) matrix pair, as the GPU's `Camera` takes them: any perspective or
+    /// orthographic projection, off-centre and skewed ones included. The strand width's world
+    /// units per pixel use the projection's vertical scale (`2 / (P₁₁ · height)`, times the
+    /// depth for a perspective projection).
+    pub(super) fn from_matrices(camera: &crate::ViewCamera) -> Result<PinholeCamera, TraceError> {
+        let view = camera.view_from_world.as_dmat4();
+        let proj = camera.clip_from_view.as_dmat4();
+        let clip_from_world = proj * view;
+        let det = clip_from_world.determinant();
+        let invertible = det.is_finite() && det.abs() > 1e-30 && proj.is_finite();
+        if !invertible {
+            return Err(TraceError::Invalid(
+                "camera matrices must be finite and invertible".into(),
+            ));
+        }
+        if camera.width == 0 || camera.height == 0 {
+            return Err(TraceError::Invalid(
+                "camera width and height must be at least 1".into(),
+            ));
+        }
+        let world_from_view = view.inverse();
+        let forward = world_from_view
+            .transform_vector3(DVec3::NEG_Z)
+            .normalize()
+            .as_vec3();
+        let up = world_from_view
+            .transform_vector3(DVec3::Y)
+            .normalize()
+            .as_vec3();
+        let right = forward.cross(up).normalize();
+        // wgpu's perspective: row z = (0, 0, r, r·near), row w = (0, 0, -1, 0).
+        let orthographic = proj.w_axis.w != 0.0 && proj.z_axis.w == 0.0;
+        let near = if orthographic || proj.z_axis.z == 0.0 {
+            0.0
+        } else {
+            (proj.w_axis.z / proj.z_axis.z) as f32
+        };
+        Ok(PinholeCamera {
+            width: camera.width,
+            height: camera.height,
+            eye: world_from_view.w_axis.truncate().as_vec3(),
+            forward,
+            right,
+            up,
+            tan_half_y: (1.0 / proj.y_axis.y.abs()) as f32,
+            aspect: camera.width as f32 / camera.height as f32,
+            near: near.max(0.0),
+            far: f32::INFINITY,
+            world_from_clip: Some(clip_from_world.inverse()),
+            orthographic,
+        })
     }
 
     /// The ray through film point `(x, y)` in pixels, clipped to the near and far planes.
     pub(super) fn ray(&self, x: f32, y: f32) -> Ray {
         let ndc_x = 2.0 * x / self.width as f32 - 1.0;
         let ndc_y = 1.0 - 2.0 * y / self.height as f32;
+        if let Some(m) = self.world_from_clip {
+            let (nx, ny) = (f64::from(ndc_x), f64::from(ndc_y));
+            let a = m.project_point3(DVec3::new(nx, ny, 0.0));
+            let b = m.project_point3(DVec3::new(nx, ny, 1.0));
+            let d = b - a;
+            let len = d.length();
+            return Ray::new(a.as_vec3(), (d / len).as_vec3(), 0.0, len as f32);
+        }
         let d = self.forward
             + self.right * (ndc_x * self.tan_half_y * self.aspect)
             + self.up * (ndc_y * self.tan_half_y);
@@ -199,6 +269,9 @@ impl PinholeCamera {
 
     /// World units per pixel at view depth `depth`.
     pub(super) fn world_per_pixel(&self, depth: f32) -> f32 {
+        if self.orthographic {
+            return 2.0 * self.tan_half_y / self.height as f32;
+        }
         2.0 * self.tan_half_y * depth.max(self.near) / self.height as f32
     }
 }

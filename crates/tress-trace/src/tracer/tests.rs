@@ -507,3 +507,83 @@ fn russian_roulette_keeps_the_expected_transmittance() {
     assert!((mean - exact).abs() < 0.0015, "{mean} vs {exact}");
     assert!(zeros > n as usize / 2, "most rays stop early");
 }
+
+/// The test scene's camera as matrices (glam's `look_at_rh` and `perspective_rh`, as the GPU).
+fn scene_matrices(size: u32) -> ViewCamera {
+    ViewCamera {
+        view_from_world: glam::Mat4::look_at_rh(Vec3::new(0.0, 0.0, 10.0), Vec3::ZERO, Vec3::Y),
+        clip_from_view: glam::Mat4::perspective_rh(30f32.to_radians(), 1.0, 0.1, 100.0),
+        width: size,
+        height: size,
+    }
+}
+
+#[test]
+fn matrix_camera_rays_match_the_look_at_camera_and_follow_an_off_centre_projection() {
+    let scene = scene(32, "");
+    let look_at = PinholeCamera::new(&scene);
+    let m = scene_matrices(32);
+    let matrices = PinholeCamera::from_matrices(&m).unwrap();
+    // The same rays: same direction, origins on the same line (the near plane's point).
+    for (x, y) in [(0.5, 0.5), (16.0, 16.0), (3.25, 29.5), (31.5, 7.0)] {
+        let (a, b) = (look_at.ray(x, y), matrices.ray(x, y));
+        assert!(a.dir.dot(b.dir) > 1.0 - 1e-6, "({x}, {y})");
+        let off = b.origin - a.origin;
+        assert!((off - off.dot(a.dir) * a.dir).length() < 1e-4, "({x}, {y})");
+    }
+    assert!((look_at.world_per_pixel(10.0) - matrices.world_per_pixel(10.0)).abs() < 1e-6);
+    // Moving the principal point 4 pixels right (NDC x + 8/32) moves every ray with it.
+    let shift = glam::Mat4::from_translation(Vec3::new(8.0 / 32.0, 0.0, 0.0));
+    let shifted = PinholeCamera::from_matrices(&ViewCamera {
+        clip_from_view: shift * m.clip_from_view,
+        ..m
+    })
+    .unwrap();
+    for (x, y) in [(0.5, 0.5), (16.0, 16.0), (20.0, 3.0)] {
+        let (a, b) = (matrices.ray(x, y), shifted.ray(x + 4.0, y));
+        assert!(a.dir.dot(b.dir) > 1.0 - 1e-6, "({x}, {y})");
+    }
+    // Orthographic: parallel rays, a constant pixel size.
+    let ortho = PinholeCamera::from_matrices(&ViewCamera {
+        clip_from_view: glam::Mat4::orthographic_rh(-2.0, 2.0, -2.0, 2.0, 0.1, 100.0),
+        ..m
+    })
+    .unwrap();
+    assert!(ortho.ray(0.5, 0.5).dir.dot(ortho.ray(31.5, 20.0).dir) > 1.0 - 1e-6);
+    assert!((ortho.world_per_pixel(3.0) - 4.0 / 32.0).abs() < 1e-6);
+    let singular = ViewCamera {
+        clip_from_view: glam::Mat4::ZERO,
+        ..m
+    };
+    assert!(PinholeCamera::from_matrices(&singular).is_err());
+}
+
+#[test]
+fn a_matrix_camera_renders_what_the_scene_camera_renders() {
+    let scene = scene(24, "");
+    let hair = strands(
+        &[(Vec3::new(-2.0, -1.0, 0.0), Vec3::new(2.0, 1.5, 0.0))],
+        0.2,
+    );
+    let s = TraceSettings {
+        spp: 4,
+        ..Default::default()
+    };
+    let geometry = SceneGeometry {
+        hair: Some(hair),
+        head: None,
+    };
+    let a = Tracer::new(&scene, &geometry, &s).unwrap().render(&|_| {});
+    let b = Tracer::with_camera(&scene, &geometry, &s, &scene_matrices(24))
+        .unwrap()
+        .render(&|_| {});
+    let differ = a
+        .image
+        .pixels
+        .iter()
+        .zip(&b.image.pixels)
+        .filter(|(p, q)| (**p - **q).abs().max_element() > 1e-3)
+        .count();
+    assert!(a.image.pixels.iter().any(|p| p.max_element() > 0.0));
+    assert!(differ <= 2, "{differ} pixels differ");
+}
