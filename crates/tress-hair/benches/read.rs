@@ -3,7 +3,7 @@
 //! `.abc` (written by `tress-alembic`'s minimal Ogawa writer) and `.data`. Run with
 //! `cargo bench -p tress-hair --bench read`; divan reports bytes per second of file read.
 //! `read_hair_ponytail` reads the generated ponytail (136,320 × 16), the Python package's
-//! load benchmark's file.
+//! load benchmark's file, from memory; `read_hair_ponytail_file` from the file.
 
 use divan::counter::BytesCount;
 use divan::{Bencher, black_box};
@@ -12,8 +12,8 @@ use tress_alembic::Scope;
 use tress_alembic::write::{CurvesOut, write};
 use tress_hair::HairAsset;
 use tress_hair::formats::{
-    Format, ReadOptions, UsdFlavor, read_abc, read_data, read_hair, read_tfx, read_usd_bytes,
-    write_data, write_hair, write_tfx, write_usd,
+    Format, ReadOptions, UsdFlavor, load_paths, read_abc, read_data, read_hair, read_tfx,
+    read_usd_bytes, write_data, write_hair, write_path, write_tfx, write_usd,
 };
 use tress_hair::generate::{Style, StyleParams, generate};
 
@@ -77,6 +77,24 @@ fn read_hair_ponytail(bencher: Bencher<'_, '_>) {
     bencher
         .counter(BytesCount::of_slice(&bytes))
         .bench(|| Format::Hair.read(black_box(&bytes)).expect("readable"));
+}
+
+/// The same ponytail read from a file (the page cache warm) by `load_paths`, the call
+/// `tress.load` makes: the file read and the parse, no Python.
+#[divan::bench(sample_count = 20)]
+fn read_hair_ponytail_file(bencher: Bencher<'_, '_>) {
+    let params = StyleParams {
+        vertices: 16,
+        ..Style::Ponytail.default_params()
+    };
+    let asset = generate(Style::Ponytail, &params).expect("valid parameters");
+    let path =
+        std::env::temp_dir().join(format!("tress-bench-{}-ponytail.hair", std::process::id()));
+    write_path(&path, &asset).expect("writable");
+    let paths = [path.clone()];
+    let options = ReadOptions::default();
+    bencher.bench(|| load_paths(black_box(&paths), &options).expect("readable"));
+    let _ = std::fs::remove_file(&path);
 }
 
 #[divan::bench]
