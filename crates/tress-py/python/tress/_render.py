@@ -91,15 +91,10 @@ class Renderer:
         """
         if not isinstance(hair, Hair):
             raise TypeError(f"hair must be a tress.Hair, got {type(hair).__name__}")
-        cams = [cameras] if isinstance(cameras, Camera) else list(cameras)
-        if not cams:
-            raise ValueError("cameras must hold at least one Camera")
-        for c in cams:
-            if not isinstance(c, Camera):
-                raise TypeError(f"cameras must be tress.Camera objects, got {type(c).__name__}")
+        cams = _cameras(cameras)
         w = cams[0].width if width is None else int(width)
         h = cams[0].height if height is None else int(height)
-        if any((c.width, c.height) != (w, h) for c in cams):
+        if (cams[0].width, cams[0].height) != (w, h):
             raise ValueError(f"every camera must be {w}x{h} (the render size); rebuild them with that size")
         maps = (maps,) if isinstance(maps, str) else tuple(maps)
         unknown = [m for m in maps if m not in MAPS]
