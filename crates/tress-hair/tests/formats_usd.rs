@@ -241,6 +241,12 @@ fn fuzz_findings_are_errors() {
     let input = std::fs::read(fuzz_regression("read_usd", "token-vector-index")).unwrap();
     let ext = ["usda", "usdc", "usdz"][usize::from(input[0] % 3)];
     assert!(read_usd_bytes(&input[1..], ext, &ReadOptions::default()).is_err());
+    // short-fields-block: a FIELDS section whose value reps decode to fewer than its field
+    // count (a debug assertion in openusd: a panic in test and fuzzing builds).
+    let input = std::fs::read(fuzz_regression("read_usd", "short-fields-block")).unwrap();
+    let ext = ["usda", "usdc", "usdz"][usize::from(input[0] % 3)];
+    let e = read_usd_bytes(&input[1..], ext, &ReadOptions::default()).unwrap_err();
+    assert!(!e.to_string().is_empty());
 }
 
 /// A committed input of the fuzz target `target` (`fuzz/regressions/TARGET/NAME`).

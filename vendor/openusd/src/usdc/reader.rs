@@ -289,7 +289,14 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 .map(|(index, value)| Field::new(*index, *value))
                 .collect();
 
-            debug_assert_eq!(fields.len(), field_count);
+            // tress patch: a short index or rep block was a debug assertion (a panic in fuzzing
+            // builds) and silently dropped fields in release ones.
+            ensure!(
+                indices.len() == field_count && reps.len() == field_count,
+                "FIELDS section claims {field_count} fields but encodes {} indices and {} values",
+                indices.len(),
+                reps.len()
+            );
 
             fields
         };
@@ -320,7 +327,6 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 .map(|i| if i == INVALID_INDEX { None } else { Some(i as usize) })
                 .collect::<Vec<_>>();
 
-            debug_assert_eq!(sets.len(), count);
 
             sets
         };
@@ -365,13 +371,10 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         // Read compressed data.
 
         let path_indexes = self.read_encoded_ints::<u32>(count)?;
-        debug_assert_eq!(path_indexes.len(), count);
 
         let element_token_indexes = self.read_encoded_ints::<i32>(count)?;
-        debug_assert_eq!(element_token_indexes.len(), count);
 
         let jumps = self.read_encoded_ints::<i32>(count)?;
-        debug_assert_eq!(jumps.len(), count);
 
         self.build_compressed_paths(&path_indexes, &element_token_indexes, &jumps)?;
 
@@ -633,7 +636,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         let buffer = self.read_compressed::<u8>(estimated_size)?;
 
         let ints = coding::decode_ints(buffer.as_slice(), count)?;
-        debug_assert_eq!(ints.len(), count);
+        // tress patch: every caller needs exactly `count` integers (was a debug assertion).
+        ensure!(ints.len() == count, "encoded integers: expected {count}, decoded {}", ints.len());
 
         Ok(ints)
     }
@@ -642,7 +646,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
 
     // Implements various logic and compatibility checks to figure out the array length and whether it's compressed.
     fn unpack_array_len(&mut self, value: ValueRep, kind: ArrayKind) -> Result<(usize, bool)> {
-        debug_assert!(!value.is_inlined());
+        // tress patch: the inlined flag comes from the file (was a debug assertion); an inlined
+        // rep's payload is read as an offset like any other, and bounds-checked there.
 
         // Empty array.
         if value.payload() == 0 {
@@ -676,7 +681,8 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
             ArrayKind::Other => {
                 // Fallback to uncompressed.
                 // See https://github.com/PixarAnimationStudios/OpenUSD/blob/0b18ad3f840c24eb25e16b795a5b0821cf05126e/pxr/usd/usd/crateFile.cpp#L1868
-                debug_assert!(!value.is_compressed());
+                // tress patch: a compressed flag on a kind with no compressed form is ignored, as
+                // release builds always did (it was a debug assertion, a panic when fuzzing).
                 compressed = false;
             }
         }
@@ -937,7 +943,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
     /// the on-disk element — safe for all gf vec types since they are
     /// `#[repr(C)]` and `bytemuck::Pod`.
     fn read_gf_array<U: Default + NoUninit + AnyBitPattern>(&mut self, value: ValueRep) -> Result<Vec<U>> {
-        debug_assert!(value.is_array() && !value.is_compressed());
+        // tress patch: the flags come from the file; an assertion on them was a debug panic.
         let (count, _) = self.unpack_array_len(value, ArrayKind::Other)?;
         if count == 0 {
             return Ok(Vec::default());
@@ -949,9 +955,7 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
         &mut self,
         value: ValueRep,
     ) -> Result<Vec<[T; N]>> {
-        debug_assert!(value.is_array());
-        debug_assert!(!value.is_compressed());
-
+        // tress patch: the flags come from the file; assertions on them were debug panics.
         let (count, _) = self.unpack_array_len(value, ArrayKind::Other)?;
 
         // Array allowed to be empty.
@@ -1445,7 +1449,6 @@ impl<R: io::Read + io::Seek> CrateFile<R> {
                 ensure!(count == times.len(), "Invalid time samples count");
 
                 let value_reps = self.reader.read_vec::<ValueRep>(count)?;
-                debug_assert_eq!(value_reps.len(), count);
 
                 let values = value_reps
                     .into_iter()
