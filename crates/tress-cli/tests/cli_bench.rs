@@ -183,7 +183,21 @@ fn quality_scores_every_technique_against_the_reference() {
     // and the AO.
     assert_eq!(rows.len(), 16, "{rows:?}");
     for r in &rows {
+        assert_eq!(r.len(), 25, "{r:?}");
         assert_eq!(r.last().unwrap(), "", "error in {r:?}");
+        // The matched scale (3) and the reference's samples: --quick traces --spp without
+        // doubling, so it reports 4 spp and whether that met --converge.
+        assert_eq!((r[13].as_str(), r[21].as_str()), ("3", "4"), "{r:?}");
+        let ratio: Vec<f64> = r[18..21].iter().map(|c| c.parse().unwrap()).collect();
+        assert!(ratio.iter().all(|q| *q > 0.0 && q.is_finite()), "{r:?}");
+        if r[3] == "reference" {
+            // The floor reported with every row is the seed pair's own matched-scale score,
+            // and the pair's noise is smaller at the matched scale than at pixel scale.
+            let matched: f64 = r[14].parse().unwrap();
+            let floor: f64 = r[22].parse().unwrap();
+            assert!((matched - floor).abs() < 1e-4, "{r:?}");
+            assert!(matched < r[8].parse::<f64>().unwrap(), "{r:?}");
+        }
         let flip: f64 = r[5].parse().unwrap();
         let ssim: f64 = r[7].parse().unwrap();
         assert!((0.0..0.5).contains(&flip), "{r:?}");

@@ -123,8 +123,14 @@ fn reference_is_deterministic_and_compare_images_scores_it() {
         heat.to_str().unwrap(),
     ]));
     let same: serde_json::Value = serde_json::from_str(same.trim_end()).unwrap();
-    assert_eq!(same.as_object().unwrap().len(), 3);
+    assert_eq!(same.as_object().unwrap().len(), 4);
     assert_eq!(same["flip"], 0.0);
+    assert_eq!(same["matched"]["flip"], 0.0);
+    assert_eq!(same["matched"]["scale"], 3);
+    assert_eq!(
+        same["matched"]["color_ratio"],
+        serde_json::json!([1.0, 1.0, 1.0])
+    );
     assert_eq!(same["rmse"], 0.0);
     assert_eq!(same["ssim"], 1.0);
     let heat = image::open(&heat).unwrap();
@@ -143,12 +149,35 @@ fn reference_is_deterministic_and_compare_images_scores_it() {
     assert!(other["rmse"].as_f64().unwrap() > 0.0);
     assert!(ssim < 1.0 && ssim > 0.3, "{other}");
 
+    // At the matched scale the seed pair's noise mostly averages out; `--floor` scores the
+    // second image against the reference the same way.
+    let matched = other["matched"]["flip"].as_f64().unwrap();
+    assert!(matched < flip, "{other}");
+    let floored = ok(&tress(&[
+        "compare-images",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "--json",
+        "--floor",
+        c.to_str().unwrap(),
+        "--scale",
+        "2",
+    ]));
+    let floored: serde_json::Value = serde_json::from_str(floored.trim_end()).unwrap();
+    assert_eq!(floored["floor"]["scale"], 2);
+    let floor = floored["floor"]["flip"].as_f64().unwrap();
+    assert!(floor > 0.0 && floor < flip, "{floored}");
+
     let text = ok(&tress(&[
         "compare-images",
         a.to_str().unwrap(),
         c.to_str().unwrap(),
     ]));
     assert!(text.starts_with("FLIP ") && text.contains("SSIM"), "{text}");
+    assert!(
+        text.contains("at scale 3: FLIP") && text.contains("ratio ("),
+        "{text}"
+    );
 }
 
 #[test]
@@ -185,6 +214,14 @@ fn errors_are_one_line_with_status_2() {
     image::RgbImage::new(5, 4).save(&large).unwrap();
     let (sm, lg) = (small.to_str().unwrap(), large.to_str().unwrap());
     fails_with(&tress(&["compare-images", sm, lg]), "4x4 and 5x4");
+    fails_with(
+        &tress(&["compare-images", sm, sm, "--scale", "0"]),
+        "--scale",
+    );
+    fails_with(
+        &tress(&["compare-images", sm, sm, "--floor", lg]),
+        "large.png",
+    );
     fails_with(
         &tress(&["compare-images", sm, "missing.png"]),
         "missing.png",

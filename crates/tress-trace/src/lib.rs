@@ -148,9 +148,11 @@
 /// The BVH (shared with the patches' AO bake in `tress-hair`).
 pub use tress_hair::bvh;
 pub mod chiang;
+pub mod converge;
 mod error;
 pub mod geometry;
 mod image;
+pub mod matched;
 pub mod metrics;
 pub mod sampling;
 mod settings;

@@ -251,6 +251,23 @@ impl Tracer {
         &self.settings
     }
 
+    /// Trace the next renders with another seed (the BVH is kept).
+    pub fn set_seed(&mut self, seed: u64) {
+        self.settings.seed = seed;
+    }
+
+    /// Trace the next renders with `spp` samples a pixel (the BVH is kept); an error outside
+    /// the settings' range.
+    pub fn set_spp(&mut self, spp: u32) -> Result<(), TraceError> {
+        let next = TraceSettings {
+            spp,
+            ..self.settings.clone()
+        };
+        next.validate()?;
+        self.settings = next;
+        Ok(())
+    }
+
     /// Render the image, rows in parallel on rayon's threads; `rows_done(n)` is called as rows
     /// finish (for a progress bar). Deterministic: the same scene and settings give the same
     /// image on any number of threads.

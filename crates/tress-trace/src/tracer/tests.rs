@@ -587,3 +587,80 @@ fn a_matrix_camera_renders_what_the_scene_camera_renders() {
     assert!(a.image.pixels.iter().any(|p| p.max_element() > 0.0));
     assert!(differ <= 2, "{differ} pixels differ");
 }
+
+/// The converged reference stops at the first sample count whose seed pair is within the
+/// threshold: every earlier round was above it, and the floor it reports is the pair's own.
+#[test]
+fn converged_reference_stops_at_its_threshold() {
+    use crate::converge::{ConvergeSettings, render_converged};
+    let pairs: Vec<(Vec3, Vec3)> = (0..40)
+        .map(|i| {
+            let a = i as f32 * 0.37;
+            (
+                Vec3::new(-2.0, a.sin(), a.cos() - 1.0),
+                Vec3::new(2.0, a.cos() * 1.5, a.sin()),
+            )
+        })
+        .collect();
+    let sc = scene(24, "[[light]]\ndirection = [0.3, 1.0, 0.5]\n");
+    let s = TraceSettings {
+        spp: 1,
+        ..TraceSettings::default()
+    };
+    let make = || tracer(&sc, Some(strands(&pairs, 0.05)), Some(quad(-2.0, 5.0)), &s);
+    // The noisy first round's floor sets a threshold the doubling must work to reach.
+    let mut probe = make();
+    let first = render_converged(
+        &mut probe,
+        None,
+        &ConvergeSettings {
+            threshold: 1.0,
+            scale: 1,
+            max_spp: 1,
+        },
+        &|_, _| {},
+    )
+    .unwrap();
+    assert_eq!(first.spp, 1);
+    let threshold = first.floor * 0.5;
+    let mut tr = make();
+    let c = render_converged(
+        &mut tr,
+        None,
+        &ConvergeSettings {
+            threshold,
+            scale: 1,
+            max_spp: 256,
+        },
+        &|_, _| {},
+    )
+    .unwrap();
+    assert!(c.converged, "{:?}", c.history);
+    assert!(c.spp > 1 && c.floor <= threshold, "{:?}", c.history);
+    let (last, earlier) = c.history.split_last().unwrap();
+    assert_eq!(*last, (c.spp, c.floor));
+    for (i, &(spp, floor)) in earlier.iter().enumerate() {
+        assert_eq!(spp, 1 << i, "the count doubles");
+        assert!(floor > threshold, "stopped late: {:?}", c.history);
+    }
+    // The reported floor is the pair's own distance, measured independently.
+    let again = crate::matched::compare(&c.image, &c.second, None, 1).unwrap();
+    assert!((again.flip - c.floor).abs() < 1e-12);
+    // An unreachable threshold stops at the cap and says so.
+    let capped = render_converged(
+        &mut make(),
+        None,
+        &ConvergeSettings {
+            threshold: 0.0,
+            scale: 1,
+            max_spp: 4,
+        },
+        &|_, _| {},
+    )
+    .unwrap();
+    assert!(!capped.converged);
+    assert_eq!(capped.spp, 4);
+    // The first round's image equals a plain render at the first seed (nothing else mixed in).
+    let plain = make().render(&|_| {}).image;
+    assert_eq!(first.image, plain);
+}

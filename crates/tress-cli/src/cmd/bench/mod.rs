@@ -13,6 +13,7 @@ mod chart;
 mod crowd;
 mod measure;
 mod quality;
+mod quality_report;
 mod report;
 mod silhouette;
 mod simulation;
@@ -56,9 +57,22 @@ pub(crate) struct Args {
     /// Measure image quality against the CPU reference instead of speed (see `--spp`).
     #[arg(long)]
     quality: bool,
-    /// Reference samples per pixel of `--quality` (default 64, 16 with --quick).
+    /// `--quality`: the reference's first samples per pixel (default 64, 16 with --quick); it
+    /// doubles until converged (`--converge`).
     #[arg(long)]
     spp: Option<u32>,
+    /// `--quality`: the reference is converged when its seed pair's FLIP over the hair at the
+    /// matched scale is at most this (default 0.01).
+    #[arg(long, value_name = "FLIP", default_value_t = 0.01)]
+    converge: f64,
+    /// `--quality`: the most samples per pixel the reference is traced to (default 1024; with
+    /// --quick, `--spp`: no doubling).
+    #[arg(long, value_name = "N")]
+    max_spp: Option<u32>,
+    /// `--quality`: the matched scale's box factor (both images averaged over N x N blocks in
+    /// linear light before the matched scores; default 3).
+    #[arg(long, value_name = "N", default_value_t = tress_trace::matched::DEFAULT_SCALE)]
+    scale: u32,
     /// `--quality` only: score only these techniques (repeatable; default all). The strand
     /// renderer is rendered anyway for the hair mask and the stray-hair silhouette test.
     #[arg(long = "technique", value_name = "NAME")]
@@ -209,12 +223,33 @@ pub(crate) fn run(args: Args) -> Result<()> {
         scene_name,
     };
     if args.quality {
+        let spp = args.spp.unwrap_or(if args.quick { 16 } else { 64 });
+        if !(1..=64).contains(&args.scale) {
+            anyhow::bail!("--scale must lie in 1..=64, got {}", args.scale);
+        }
+        if !(args.converge.is_finite() && args.converge >= 0.0) {
+            anyhow::bail!(
+                "--converge must be a non-negative FLIP, got {}",
+                args.converge
+            );
+        }
+        if let Some(max) = args.max_spp
+            && max < spp
+        {
+            anyhow::bail!("--max-spp {max} is below --spp {spp}");
+        }
         let select = quality::Select {
             techniques: &args.techniques,
             distances: &args.distances,
             shading: args.shading.as_deref(),
+            converge: quality::Converge {
+                spp,
+                threshold: args.converge,
+                max_spp: args.max_spp.unwrap_or(if args.quick { spp } else { 1024 }),
+                scale: args.scale,
+            },
         };
-        return quality::run(&run, args.quick, args.spp, &select);
+        return quality::run(&run, args.quick, &select);
     }
     let info = &run.ctx.adapter_info;
     let targets = OffscreenTargets::new(&run.ctx, size, COLOR_FORMAT)?;

@@ -15,6 +15,13 @@
 //! spp): `hair_iou` is their intersection over union, `stray_pct` the percent of the
 //! technique's silhouette outside the strand renderer's dilated by 4 pixels (hair drawn where
 //! no strand is).
+//!
+//! **A converged reference at a matched scale** (issue 36). The reference is traced until its
+//! seed pair agrees over the hair ([`tress_trace::converge`]: from `--spp`, doubling, until
+//! their matched-scale FLIP is at most `--converge`, or `--max-spp`); the `reference` row is
+//! that pair, the noise floor. Every score is also given at a matched scale
+//! ([`tress_trace::matched`]: both images box-filtered in linear light by `--scale`, default
+//! 3), with the mean linear colour over the hair and its per-channel ratio to the reference's.
 
 use std::path::Path;
 
@@ -23,10 +30,14 @@ use glam::Vec3;
 use tress_render::session::{Session, TECHNIQUES};
 use tress_render::{COLOR_FORMAT, LinearImage, OffscreenTargets};
 use tress_scene::Scene;
-use tress_trace::{Aov, DisplayImage, Image, TraceSettings, metrics};
+use tress_trace::converge::{ConvergeSettings, render_converged};
+use tress_trace::{
+    Aov, DisplayImage, Image, SceneGeometry, TraceSettings, Tracer, matched, metrics,
+};
 
 use super::Run;
 use super::measure::{camera_at, coverage_pct, hair_mask, scene_at};
+use super::quality_report::{csv, markdown};
 use super::report::write;
 use super::silhouette::{self, DILATION, Silhouette};
 use crate::cmd::open::open_session;
@@ -43,16 +54,27 @@ const SCENES: [(&str, &str); 3] = [
 ];
 
 /// One score.
-struct Row {
-    scene: String,
-    distance: f32,
-    coverage_pct: f64,
-    technique: &'static str,
+pub(super) struct Row {
+    pub(super) scene: String,
+    pub(super) distance: f32,
+    pub(super) coverage_pct: f64,
+    pub(super) technique: &'static str,
     /// `color` or `ao`.
-    aov: &'static str,
-    result: Result<Score, String>,
+    pub(super) aov: &'static str,
+    pub(super) result: Result<Score, String>,
     /// The colour rows of the techniques: their silhouette against the reference's.
-    silhouette: Option<Silhouette>,
+    pub(super) silhouette: Option<Silhouette>,
+    /// The reference this row was scored against: its samples a pixel and its seed pair's
+    /// matched-scale FLIP over the hair (its noise floor).
+    pub(super) reference: Reference,
+}
+
+/// The traced reference of a scene and distance.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Reference {
+    pub(super) spp: u32,
+    pub(super) floor: f64,
+    pub(super) converged: bool,
 }
 
 /// Which part of the report to run: the techniques (empty: all) and camera distances (empty:
@@ -62,16 +84,30 @@ pub(crate) struct Select<'a> {
     pub(crate) distances: &'a [f32],
     /// `--shading`, for the report's title (the overrides are already in the run's scene).
     pub(crate) shading: Option<&'a str>,
+    /// The reference's convergence (`start_spp` is `--spp`).
+    pub(crate) converge: Converge,
+}
+
+/// How far the reference is traced: from `spp`, doubling until the seed pair's matched-scale
+/// FLIP over the hair is at most `threshold`, or `max_spp`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Converge {
+    pub(crate) spp: u32,
+    pub(crate) threshold: f64,
+    pub(crate) max_spp: u32,
+    pub(crate) scale: u32,
 }
 
 /// A technique's image scored against the reference.
-struct Score {
-    scores: metrics::Scores,
+pub(super) struct Score {
+    pub(super) scores: metrics::Scores,
     /// Mean FLIP over the hair's pixels only.
-    flip_hair: f64,
+    pub(super) flip_hair: f64,
+    /// The same at the matched scale, with the mean colours over the hair.
+    pub(super) matched: matched::MatchedScore,
     /// File names of the image and its FLIP map.
-    image: String,
-    heat: String,
+    pub(super) image: String,
+    pub(super) heat: String,
 }
 
 /// A frame as the tracer's linear RGB image (alpha dropped: frames are drawn over an opaque
@@ -121,11 +157,19 @@ fn save(img: &Image, path: &Path) -> Result<String> {
         .unwrap_or_default())
 }
 
-fn score(reference: &Image, test: &Image, mask: &[bool], dir: &Path, stem: &str) -> Result<Score> {
+fn score(
+    reference: &Image,
+    test: &Image,
+    mask: &[bool],
+    scale: u32,
+    dir: &Path,
+    stem: &str,
+) -> Result<Score> {
     let cmp = metrics::compare(
         &DisplayImage::from_linear(reference),
         &DisplayImage::from_linear(test),
     )?;
+    let matched = matched::compare(reference, test, Some(mask), scale)?;
     let image = save(test, &dir.join(format!("{stem}.png")))?;
     let heat = dir.join(format!("{stem}-flip.png"));
     cmp.save_heatmap(&heat)?;
@@ -136,6 +180,7 @@ fn score(reference: &Image, test: &Image, mask: &[bool], dir: &Path, stem: &str)
     Ok(Score {
         scores: cmp.scores,
         flip_hair: cmp.masked_flip(mask),
+        matched,
         image,
         heat,
     })
@@ -162,8 +207,9 @@ fn scenes(run: &Run) -> Result<Vec<(String, Scene, bool)>> {
 }
 
 /// Render the report into `run.dir`.
-pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>, select: &Select<'_>) -> Result<()> {
-    let spp = spp.unwrap_or(if quick { 16 } else { 64 });
+pub(crate) fn run(run: &Run, quick: bool, select: &Select<'_>) -> Result<()> {
+    let converge = select.converge;
+    let (spp, scale) = (converge.spp, converge.scale);
     let distances: &[f32] = match select.distances {
         [] if quick => &[1.0, 3.0],
         [] => &[1.0, 2.0, 4.0],
@@ -208,16 +254,63 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>, select: &Select<'_>)
         for &d in distances {
             let tag = format!("{}-d{d}", slug(name));
             let camera = camera_at(&session, size, d);
+            // The hair's pixels (the strand renderer's frame with and without its hair): where
+            // the scores over the hair and the reference's convergence are measured.
+            let pb = progress::spinner(format!("{name} x{d}: the hair's pixels"));
+            let masked = (|| -> Result<_> {
+                session.set_technique(&run.ctx, "strands")?;
+                session.set_hair_visible(true);
+                let img = frame(run, &mut session, &targets, &camera);
+                session.set_hair_visible(false);
+                let bare = frame(run, &mut session, &targets, &camera);
+                session.set_hair_visible(true);
+                let (img, bare) = (img?, bare?);
+                Ok((hair_mask(&img, &bare), coverage_pct(&img, &bare), bare))
+            })();
+            pb.finish_and_clear();
+            let (mask, coverage, bare) =
+                masked.with_context(|| format!("{name}: the hair's pixels"))?;
             // The reference sees exactly the session's scene from the same camera.
             let traced = scene_at(session.scene(), d);
-            let pb = progress::spinner(format!("{name} x{d}: tracing the reference ({spp} spp)"));
             let settings = TraceSettings {
                 spp,
                 ..TraceSettings::default()
             };
-            let reference = tress_trace::render_reference(&traced, &settings);
+            let pb = progress::spinner(format!("{name} x{d}: tracing the reference ({spp} spp)"));
+            let converged = (|| -> Result<_> {
+                let geometry = SceneGeometry::load(&traced)?;
+                let mut tracer = Tracer::new(&traced, &geometry, &settings)?;
+                let c = render_converged(
+                    &mut tracer,
+                    Some(&mask),
+                    &ConvergeSettings {
+                        threshold: converge.threshold,
+                        scale,
+                        max_spp: converge.max_spp.max(spp),
+                    },
+                    &|n, floor| {
+                        pb.set_message(format!(
+                            "{name} x{d}: tracing the reference ({n} spp: seed pair {floor:.4})"
+                        ));
+                    },
+                )?;
+                Ok(c)
+            })();
             pb.finish_and_clear();
-            let reference = reference.with_context(|| format!("{name}: the reference"))?;
+            let converged = converged.with_context(|| format!("{name}: the reference"))?;
+            let reference_info = Reference {
+                spp: converged.spp,
+                floor: converged.floor,
+                converged: converged.converged,
+            };
+            if !converged.converged {
+                eprintln!(
+                    "warning: {name} x{d}: the reference stopped at {} spp with its seed pair \
+                     {:.4} apart over the hair (--converge {}); raise --max-spp to go on",
+                    converged.spp, converged.floor, converge.threshold
+                );
+            }
+            let reference = converged.image;
             save(&reference, &run.dir.join(format!("{tag}-reference.png")))?;
 
             // The silhouettes: the reference's, and the strand renderer's dilated.
@@ -238,12 +331,8 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>, select: &Select<'_>)
             pb.finish_and_clear();
             let outlines = outlines.with_context(|| format!("{name}: the silhouettes"))?;
 
-            let mut mask = Vec::new();
-            let mut coverage = 0.0;
-            let mut without_hair = None;
             for t in TECHNIQUES {
-                let listed = techniques.contains(&t);
-                if !listed && t != "strands" {
+                if !techniques.contains(&t) {
                     continue;
                 }
                 let pb = progress::spinner(format!("{name} x{d}: {t}"));
@@ -251,90 +340,72 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>, select: &Select<'_>)
                     session.set_technique(&run.ctx, t)?;
                     session.set_hair_visible(true);
                     let img = frame(run, &mut session, &targets, &camera)?;
-                    if t == "strands" {
-                        session.set_hair_visible(false);
-                        let bare = frame(run, &mut session, &targets, &camera);
-                        session.set_hair_visible(true);
-                        let bare = bare?;
-                        mask = hair_mask(&img, &bare);
-                        coverage = coverage_pct(&img, &bare);
-                        without_hair = Some(bare);
-                    }
                     score(
                         &reference,
                         &linear_to_trace(&img),
                         &mask,
+                        scale,
                         &run.dir,
                         &format!("{tag}-{t}"),
                     )
                 })();
                 pb.finish_and_clear();
-                if listed {
-                    let outline = outline(run, &mut headless, &targets, &camera, t)
-                        .ok()
-                        .map(|m| silhouette::compare(&m, &outlines.0, &outlines.1));
-                    rows.push(Row {
-                        scene: name.clone(),
-                        distance: d,
-                        coverage_pct: coverage,
-                        technique: t,
-                        aov: "color",
-                        result: result.map_err(|e| format!("{e:#}")),
-                        silhouette: outline,
-                    });
-                }
+                let outline = outline(run, &mut headless, &targets, &camera, t)
+                    .ok()
+                    .map(|m| silhouette::compare(&m, &outlines.0, &outlines.1));
+                rows.push(Row {
+                    scene: name.clone(),
+                    distance: d,
+                    coverage_pct: coverage,
+                    technique: t,
+                    aov: "color",
+                    result: result.map_err(|e| format!("{e:#}")),
+                    silhouette: outline,
+                    reference: reference_info,
+                });
             }
 
             // The baseline: the frame without its hair (head and background only), scored like a
             // technique over the hair's pixels. A technique that draws hair at all should beat it
             // clearly; a blank or wrong-coloured one does not.
-            if let Some(bare) = without_hair.take() {
-                rows.push(Row {
-                    scene: name.clone(),
-                    distance: d,
-                    coverage_pct: coverage,
-                    technique: "none",
-                    aov: "color",
-                    result: score(
-                        &reference,
-                        &linear_to_trace(&bare),
-                        &mask,
-                        &run.dir,
-                        &format!("{tag}-none"),
-                    )
-                    .map_err(|e| format!("{e:#}")),
-                    silhouette: None,
-                });
-            }
-
-            // The noise floor: the reference traced again with another seed, scored like a
-            // technique. No technique can be expected to score better than this.
-            let pb = progress::spinner(format!("{name} x{d}: the reference's noise"));
-            let result = (|| -> Result<_> {
-                let again = tress_trace::render_reference(
-                    &traced,
-                    &TraceSettings {
-                        seed: settings.seed + 1,
-                        ..settings.clone()
-                    },
-                )?;
-                score(
+            rows.push(Row {
+                scene: name.clone(),
+                distance: d,
+                coverage_pct: coverage,
+                technique: "none",
+                aov: "color",
+                result: score(
                     &reference,
-                    &again,
+                    &linear_to_trace(&bare),
                     &mask,
+                    scale,
                     &run.dir,
-                    &format!("{tag}-reference-seed2"),
+                    &format!("{tag}-none"),
                 )
-            })();
-            pb.finish_and_clear();
+                .map_err(|e| format!("{e:#}")),
+                silhouette: None,
+                reference: reference_info,
+            });
+
+            // The noise floor: the reference's seed-pair twin (as many samples, other seeds),
+            // scored like a technique. No technique can be expected to score better than this.
             rows.push(Row {
                 scene: name.clone(),
                 distance: d,
                 coverage_pct: coverage,
                 technique: "reference",
                 aov: "color",
-                result: result.map_err(|e| format!("{e:#}")),
+                result: score(
+                    &reference,
+                    &converged.second,
+                    &mask,
+                    scale,
+                    &run.dir,
+                    &format!("{tag}-reference-seed2"),
+                )
+                .map_err(|e| format!("{e:#}")),
                 silhouette: None,
+                reference: reference_info,
             });
 
             // The volume's AO alone against the traced AO.
@@ -359,7 +430,14 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>, select: &Select<'_>)
                 };
                 save(&masked, &run.dir.join(format!("{tag}-reference-ao.png")))?;
                 let gpu = volume_ao(run, &mut session, &targets, &camera, &mask)?;
-                score(&masked, &gpu, &mask, &run.dir, &format!("{tag}-volume-ao"))
+                score(
+                    &masked,
+                    &gpu,
+                    &mask,
+                    scale,
+                    &run.dir,
+                    &format!("{tag}-volume-ao"),
+                )
             })();
             pb.finish_and_clear();
             rows.push(Row {
@@ -370,6 +448,7 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>, select: &Select<'_>)
                 aov: "ao",
                 result: result.map_err(|e| format!("{e:#}")),
                 silhouette: None,
+                reference: reference_info,
             });
             for r in rows.iter().filter(|r| r.scene == *name && r.distance == d) {
                 let outline = r.silhouette.map_or_else(String::new, |s| {
@@ -377,15 +456,21 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>, select: &Select<'_>)
                 });
                 match &r.result {
                     Ok(s) => eprintln!(
-                        "{} x{} {} {}: FLIP {:.4} (hair {:.4}) RMSE {:.4} SSIM {:.3}{outline}",
+                        "{} x{} {} {}: FLIP {:.4} (hair {:.4}, at scale {scale} {:.4}) RMSE {:.4} \
+                         SSIM {:.3}{outline}{}",
                         r.scene,
                         r.distance,
                         r.technique,
                         r.aov,
                         s.scores.flip,
                         s.flip_hair,
+                        s.matched.flip_masked.unwrap_or(f64::NAN),
                         s.scores.rmse,
-                        s.scores.ssim
+                        s.scores.ssim,
+                        s.matched.color_ratio.map_or_else(String::new, |q| format!(
+                            ", colour ratio ({:.3}, {:.3}, {:.3})",
+                            q[0], q[1], q[2]
+                        ))
                     ),
                     Err(e) => eprintln!(
                         "{} x{} {} {}: failed: {e}",
@@ -400,7 +485,7 @@ pub(crate) fn run(run: &Run, quick: bool, spp: Option<u32>, select: &Select<'_>)
     write(
         &run.dir,
         "quality.md",
-        &markdown(&rows, adapter, size, spp, select.shading),
+        &markdown(&rows, adapter, size, converge, select.shading),
     )?;
     println!(
         "wrote the quality report of {} scenes x {} distances into {} ({} scores) on {adapter}",
@@ -477,112 +562,6 @@ fn volume_ao(
     let off = render(false);
     session.set(&run.ctx, &format!("volume.ao={was_on}"))?;
     Ok(ao_ratio(&on?, &off?, mask))
-}
-
-fn csv(rows: &[Row]) -> String {
-    let mut out = String::from(
-        "scene,distance,coverage_pct,technique,aov,flip,rmse,ssim,flip_hair,image,heatmap,\
-         hair_iou,stray_pct,error\n",
-    );
-    for r in rows {
-        let scene = r.scene.replace([',', '"', '\n'], "_");
-        let outline = r.silhouette.map_or_else(
-            || ",".to_owned(),
-            |s| format!("{:.4},{:.3}", s.iou, s.outside_pct),
-        );
-        match &r.result {
-            Ok(s) => out.push_str(&format!(
-                "{scene},{},{:.3},{},{},{:.5},{:.5},{:.4},{:.5},{},{},{outline},\n",
-                r.distance,
-                r.coverage_pct,
-                r.technique,
-                r.aov,
-                s.scores.flip,
-                s.scores.rmse,
-                s.scores.ssim,
-                s.flip_hair,
-                s.image,
-                s.heat
-            )),
-            Err(e) => out.push_str(&format!(
-                "{scene},{},{:.3},{},{},,,,,,,{outline},\"{}\"\n",
-                r.distance,
-                r.coverage_pct,
-                r.technique,
-                r.aov,
-                e.replace('"', "'")
-            )),
-        }
-    }
-    out
-}
-
-fn markdown(
-    rows: &[Row],
-    adapter: &str,
-    size: [u32; 2],
-    spp: u32,
-    shading: Option<&str>,
-) -> String {
-    let shading = match shading {
-        Some("marschner") => "Shading: **Marschner** (`--shading marschner`: strands, volume, \
-             hybrid and patches shade the `[hair.material]` fibre; SATF keeps its paper's \
-             lighting), against the path-traced reference with Chiang et al. 2016's fibres."
-            .to_string(),
-        Some(model) => format!(
-            "Shading: **{model}** (`--shading {model}`), the reference evaluating the same model."
-        ),
-        None => "Shading: the scenes' own (Kajiya-Kay unless a scene says otherwise), the \
-                 reference evaluating the same model."
-            .to_string(),
-    };
-    let mut md = format!(
-        "# tress image quality\n\n{shading}\n\nEvery technique against the CPU reference ray tracer \
-         (`tress-trace`, {spp} samples per pixel), {}x{}, GPU images from **{adapter}**. \
-         FLIP is the mean FLIP error over the frame (0 identical, lower is better), FLIP on \
-         hair its mean over the pixels the hair covers (which the background does not dilute); \
-         the `reference` row is the reference traced again with another seed: its noise, \
-         a floor no technique can beat at this sample count; the `none` row is the frame \
-         without its hair (head and background), the baseline every technique must beat on \
-         the hair; the AO row compares the \
-         volume's ambient occlusion alone with the traced AO over the hair (see \
-         `crates/tress-cli/src/cmd/bench/quality.rs`); hair IoU compares the technique's hair \
-         silhouette with the reference's and stray % is the share of it outside the strand \
-         renderer's silhouette dilated by 4 pixels (both without the head). Distances are \
-         multiples of the scene camera's.\n\n| scene | distance | coverage % | technique | aov | FLIP | FLIP on hair | RMSE | SSIM | hair IoU | stray % | image | FLIP map |\n\
-         | --- | ---: | ---: | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- |\n",
-        size[0], size[1]
-    );
-    for r in rows {
-        let outline = r.silhouette.map_or_else(
-            || " | ".to_owned(),
-            |s| format!("{:.3} | {:.2}", s.iou, s.outside_pct),
-        );
-        match &r.result {
-            Ok(s) => md.push_str(&format!(
-                "| {} | {} | {:.2} | {} | {} | {:.4} | {:.4} | {:.4} | {:.3} | {outline} | ![]({}) | ![]({}) |\n",
-                r.scene,
-                r.distance,
-                r.coverage_pct,
-                r.technique,
-                r.aov,
-                s.scores.flip,
-                s.flip_hair,
-                s.scores.rmse,
-                s.scores.ssim,
-                s.image,
-                s.heat
-            )),
-            Err(e) => md.push_str(&format!(
-                "| {} | {} | {:.2} | {} | {} | failed: {e} | | | | {outline} | | |\n",
-                r.scene, r.distance, r.coverage_pct, r.technique, r.aov
-            )),
-        }
-    }
-    md.push_str(
-        "\nReferences: `*-reference.png` (color) and `*-reference-ao.png` (AO over the hair).\n",
-    );
-    md
 }
 
 #[cfg(test)]
