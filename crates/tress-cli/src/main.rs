@@ -68,6 +68,9 @@ enum Command {
     /// Benchmark every technique over the hybrid paper's sweeps (CSV, charts, summary.md), or
     /// with --quality measure image quality against the CPU reference.
     Bench(cmd::bench::Args),
+    /// Print every key of a scene's technique tables with its default and meaning (commented
+    /// TOML, or with --markdown the book's tables).
+    Settings(cmd::settings::Args),
 }
 
 fn main() -> ExitCode {
@@ -86,6 +89,7 @@ fn main() -> ExitCode {
         Command::SatfBake(a) => cmd::satf_bake::run(a),
         Command::View(a) => cmd::view::run(a),
         Command::Bench(a) => cmd::bench::run(a),
+        Command::Settings(a) => cmd::settings::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

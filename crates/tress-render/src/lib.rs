@@ -73,6 +73,7 @@ pub mod satf;
 pub mod scene_setup;
 mod services;
 pub mod session;
+pub mod settings_doc;
 pub mod shaders;
 pub mod sim;
 mod stats;
@@ -95,6 +96,9 @@ pub use satf::{
     SatfDatabase, SatfFrameInputs, SatfFrameStats, SatfGeometry, SatfRenderer, SatfSettings,
 };
 pub use scene_setup::PreparedScene;
+pub use settings_doc::{
+    SETTING_TABLES, SettingDoc, settings_markdown, settings_reference, settings_toml,
+};
 pub use stats::{FrameStats, GpuReport, ObjectFrame, StatsReadback, VolumeFrame};
 pub use strands::{PpllStats, Shading, StrandGeometry, StrandSettings, ThicknessFade};
 pub use volume::{ShadowMode, VolumeSettings, VolumeStats, VoxelizeMode, Voxelizer};

@@ -16,5 +16,6 @@ pub(crate) mod render;
 pub(crate) mod render_satf;
 pub(crate) mod report;
 pub(crate) mod satf_bake;
+pub(crate) mod settings;
 pub(crate) mod simulate;
 pub(crate) mod view;

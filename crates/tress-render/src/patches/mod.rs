@@ -83,6 +83,7 @@ mod patch_head;
 mod patch_shade;
 mod renderer;
 pub mod scene;
+pub(crate) mod scene_doc;
 mod technique;
 mod textures;
 mod z_prime;

@@ -19,28 +19,8 @@
 //! (`ao.bake` overrides either way). Textures are procedural (`[patches.textures]`) unless PNG
 //! files are named (`textures.base_png`, `alpha_png`, `spec_shift_png`, `spec_noise_png`).
 //!
-//! ```toml
-//! [patches]
-//! scheme = "4-pass"            # or "3-pass"
-//! shading = "scheuermann"      # or "marschner": the [hair.material] fibre's lobes
-//! alpha_ref = 0.99             # alpha test: alpha >= alpha_ref is opaque
-//! min_alpha = 0.0              # > 0: the last pass drops alpha below it (an option, see mod docs)
-//! ambient_occlusion = true
-//! mipmaps = true
-//! diffuse_color = [1.0, 1.0, 1.0]
-//! primary_color = [0.3, 0.3, 0.3]
-//! primary_exponent = 80.0
-//! primary_shift = -0.1
-//! secondary_color = [0.5, 0.4, 0.3]
-//! secondary_exponent = 16.0
-//! secondary_shift = 0.1
-//! source = "auto"              # auto | generated | obj | strands
-//! # obj = "cards.obj"
-//! generator = { layers = 4, patches_per_layer = 64, segments = 12, length = 25.0, seed = 0 }
-//! cards = { cards = 400, segments = 16, width_scale = 2.0, min_width = 0.2, seed = 0 }
-//! ao = { rays = 64, max_distance = 8.0, sides = "max", patch_opacity = 0.55, seed = 0 }
-//! textures = { width = 256, height = 512, seed = 0, strands = 48 }
-//! ```
+//! Every key with its default and meaning: [`crate::settings_reference`]`("patches")`
+//! (`tress settings patches`, and the book's Patches chapter).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -60,7 +40,7 @@ use crate::{Material, RenderError, Shading};
 /// `[patches.generator]`.
 #[derive(Deserialize, Default, Debug)]
 #[serde(deny_unknown_fields, default)]
-struct GeneratorTable {
+pub(super) struct GeneratorTable {
     layers: Option<u32>,
     patches_per_layer: Option<u32>,
     segments: Option<u32>,
@@ -77,7 +57,7 @@ struct GeneratorTable {
 /// `[patches.cards]`.
 #[derive(Deserialize, Default, Debug)]
 #[serde(deny_unknown_fields, default)]
-struct CardTable {
+pub(super) struct CardTable {
     cards: Option<u32>,
     segments: Option<u32>,
     width_scale: Option<f32>,
@@ -89,7 +69,7 @@ struct CardTable {
 /// `[patches.ao]`.
 #[derive(Deserialize, Default, Debug)]
 #[serde(deny_unknown_fields, default)]
-struct AoTable {
+pub(super) struct AoTable {
     bake: Option<bool>,
     rays: Option<u32>,
     max_distance: Option<f32>,
@@ -101,7 +81,7 @@ struct AoTable {
 /// `[patches.textures]`.
 #[derive(Deserialize, Default, Debug)]
 #[serde(deny_unknown_fields, default)]
-struct TextureTable {
+pub(super) struct TextureTable {
     width: Option<u32>,
     height: Option<u32>,
     seed: Option<u64>,
@@ -122,7 +102,7 @@ struct TextureTable {
 /// The `[patches]` table: every key optional, unknown keys are errors naming key and line.
 #[derive(Deserialize, Default, Debug)]
 #[serde(deny_unknown_fields, default)]
-struct PatchTable {
+pub(super) struct PatchTable {
     scheme: Option<String>,
     shading: Option<String>,
     alpha_ref: Option<f32>,
@@ -138,10 +118,10 @@ struct PatchTable {
     secondary_shift: Option<f32>,
     source: Option<String>,
     obj: Option<PathBuf>,
-    generator: GeneratorTable,
-    cards: CardTable,
-    ao: AoTable,
-    textures: TextureTable,
+    pub(super) generator: GeneratorTable,
+    pub(super) cards: CardTable,
+    pub(super) ao: AoTable,
+    pub(super) textures: TextureTable,
 }
 
 fn table(scene: &Scene) -> Result<PatchTable, RenderError> {
@@ -265,7 +245,7 @@ pub struct PatchScene {
 }
 
 /// The generated-head parameters of `[patches.generator]` around `head`.
-fn generator_params(t: &GeneratorTable, head: Head) -> PatchParams {
+pub(super) fn generator_params(t: &GeneratorTable, head: Head) -> PatchParams {
     let mut p = PatchParams {
         head,
         ..PatchParams::default()
@@ -288,7 +268,7 @@ fn generator_params(t: &GeneratorTable, head: Head) -> PatchParams {
     p
 }
 
-fn card_params(t: &CardTable) -> CardParams {
+pub(super) fn card_params(t: &CardTable) -> CardParams {
     let mut p = CardParams::default();
     set!(
         p,
@@ -304,7 +284,7 @@ fn card_params(t: &CardTable) -> CardParams {
 }
 
 /// AO bake settings of `[patches.ao]` (the bake switch is read by [`load_patches`]).
-fn ao_params(t: &AoTable) -> Result<AoParams, RenderError> {
+pub(super) fn ao_params(t: &AoTable) -> Result<AoParams, RenderError> {
     let mut p = AoParams::default();
     set!(p, t, rays, max_distance, seed, patch_opacity);
     if let Some(s) = &t.sides {

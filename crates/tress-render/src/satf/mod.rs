@@ -114,6 +114,7 @@ mod passes;
 mod renderer;
 mod s_maps;
 pub mod scene;
+pub(crate) mod scene_doc;
 mod technique;
 mod texture_map;
 

@@ -16,42 +16,8 @@
 //! gives the settings of such a bake; when any of its keys is set, an existing file must have
 //! been baked with exactly those settings (else the error names the first that differs).
 //!
-//! ```toml
-//! [satf]
-//! database = "hair.satfdb"      # absent: a cache file named by the bake settings
-//! bake = { samples = 2048, angles = 16, pixels = 16, seed = 0, max_strands = 48 }
-//! clusters = "auto"             # auto | fit | generate
-//! fit = { strands_per_cluster = 256, control_points = 8, axis_quantile = 0.95, stray_split = 0.75, max_clusters = 512 }
-//! generate = { macro_clusters = 12, clusters_per_macro = 5, strands_per_cluster = 150 }
-//! st = 16                       # equation 3: s_t, s_v, s_u; the innermost core_rings are the core
-//! sv = 4
-//! su = 8
-//! core_rings = 1
-//! map_rows = 4                  # map rows per HSV
-//! mesh_t = 2                    # layer mesh quads per HSV along t, per sector around u
-//! mesh_u = 4
-//! feature_weights = [1.0, 1.0, 1.0]
-//! angle_weight = 2.546          # per radian in equation 6 (16 / 2π)
-//! k_threshold = 0.25            # equation 6
-//! k_dif = 0.8                   # equations 8–11
-//! k_spe1 = 0.25
-//! f_spe1 = [1.0, 1.0, 1.0]
-//! primary_shift = 0.1
-//! k_spe2 = 0.5
-//! secondary_shift = 0.1
-//! k_h = 60.0
-//! k_shadow = 0.6                # equation 12
-//! shadow_approx = "exponential" # or "linear"
-//! local_shadows = true
-//! reflectance = "straight"      # or "premultiplied"
-//! key_light = 0
-//! cluster_shadows = true        # shadow maps between clusters
-//! shadow_map_size = 1024
-//! shadow_opacity = 0.7
-//! shadow_bias = 0.5
-//! pcf_radius = 1
-//! stage_timing = "timestamps"   # or "wall_clock" (each stage submitted alone and waited for)
-//! ```
+//! Every key with its default and meaning: [`crate::settings_reference`]`("satf")`
+//! (`tress settings satf`, and the book's SATF chapter).
 
 use std::path::PathBuf;
 
@@ -72,7 +38,7 @@ use crate::RenderError;
 /// `[satf.bake]`.
 #[derive(Deserialize, Default, Debug)]
 #[serde(deny_unknown_fields, default)]
-struct BakeTable {
+pub(super) struct BakeTable {
     samples: Option<u32>,
     angles: Option<u32>,
     view_angles: Option<u32>,
@@ -85,7 +51,7 @@ struct BakeTable {
 /// `[satf.fit]`.
 #[derive(Deserialize, Default, Debug)]
 #[serde(deny_unknown_fields, default)]
-struct FitTable {
+pub(super) struct FitTable {
     strands_per_cluster: Option<u32>,
     grouping_samples: Option<u32>,
     fit_samples: Option<u32>,
@@ -101,7 +67,7 @@ struct FitTable {
 /// `[satf.generate]`.
 #[derive(Deserialize, Default, Debug)]
 #[serde(deny_unknown_fields, default)]
-struct GenerateTable {
+pub(super) struct GenerateTable {
     macro_clusters: Option<u32>,
     clusters_per_macro: Option<u32>,
     strands_per_cluster: Option<u32>,
@@ -118,7 +84,7 @@ struct GenerateTable {
 /// The `[satf]` table: every key optional, unknown keys are errors naming key and line.
 #[derive(Deserialize, Default, Debug)]
 #[serde(deny_unknown_fields, default)]
-struct SatfTable {
+pub(super) struct SatfTable {
     database: Option<PathBuf>,
     bake: BakeTable,
     clusters: Option<String>,

@@ -16,6 +16,7 @@ use tress_hair::{Aabb, HairAsset};
 use tress_scene::{HeadSource, Scene, TechniqueKind};
 
 mod framing;
+pub(crate) mod reference;
 
 pub use framing::{
     FRONT_VIEW, SIDE_VIEW, frame_bounds, framing_direction, projected_area, scale_world_defaults,
