@@ -89,6 +89,45 @@ fn the_crowd_reports_each_character_drawn_by_its_size() {
         64u64.pow(3) * 20 + volumes
     );
     assert!(v["oit"]["fragments"].as_u64().unwrap() > 0 && v["oit"]["lost"] == 0);
+
+    // The frame's GPU memory: the total is its parts; the volumes part is the volume report's
+    // (counters and every character's volume); each character's own memory is its strand
+    // buffers (at least a 4-byte index a segment) and its volume, and what the characters do not
+    // own of the geometry is the heads'.
+    let m = &v["memory"];
+    let part = |k: &str| m[k].as_u64().unwrap_or_else(|| panic!("memory.{k}: {m}"));
+    let parts = [
+        "geometry",
+        "oit",
+        "volumes",
+        "shadow_maps",
+        "textures",
+        "database",
+    ];
+    assert_eq!(
+        part("total"),
+        parts.iter().map(|k| part(k)).sum::<u64>(),
+        "{m}"
+    );
+    assert_eq!(part("volumes"), v["volume"]["bytes"].as_u64().unwrap());
+    assert!(part("oit") > 0 && part("shadow_maps") > 0, "{m}");
+    let mut own_geometry = 0;
+    for o in objects {
+        let om = &o["memory"];
+        let (total, geometry, volume) = (
+            om["total"].as_u64().unwrap(),
+            om["geometry"].as_u64().unwrap(),
+            om["volume"].as_u64().unwrap(),
+        );
+        assert_eq!(total, geometry + volume, "{o}");
+        assert_eq!(volume, o["volume_bytes"].as_u64().unwrap(), "{o}");
+        assert!(geometry >= 4 * o["segments"].as_u64().unwrap(), "{o}");
+        own_geometry += geometry;
+    }
+    assert!(
+        own_geometry < part("geometry"),
+        "the heads' meshes are the frame's: {m}"
+    );
 }
 
 #[test]

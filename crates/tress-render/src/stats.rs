@@ -93,6 +93,9 @@ pub struct ObjectFrame {
     pub segments: u32,
     /// Bytes of its own volume (texture and occupancy), 0 when not voxelized.
     pub volume_bytes: u64,
+    /// Bytes of its own strand geometry buffers (the frame's head, OIT, shadow maps and
+    /// voxel counters are shared: [`crate::session::Memory`]).
+    pub geometry_bytes: u64,
     /// Why it was drawn otherwise than asked (`"volume.budget_mib"`: its volume did not fit).
     pub fallback: Option<&'static str>,
 }

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use anyhow::{Result, bail};
 use serde::Serialize;
-use tress_render::session::{FrameDetail, SatfInfo, Session, SessionFrame};
+use tress_render::session::{FrameDetail, Memory, SatfInfo, Session, SessionFrame};
 use tress_render::{FrameStats, GpuContext, LinearImage, SatfFrameStats, Timings};
 
 /// The JSON report of a frame: the keys every technique reports, then the technique's own part.
@@ -23,6 +23,8 @@ pub(crate) struct Report {
     pub(crate) passes: Vec<Pass>,
     pub(crate) frame_gpu_ms: Option<f64>,
     pub(crate) ppll: Ppll,
+    /// The frame's GPU memory by part.
+    pub(crate) memory: MemoryReport,
     /// The strand rasterizer's OIT, when strands were drawn.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) oit: Option<OitReport>,
@@ -57,12 +59,50 @@ pub(crate) struct ObjectReport {
     pub(crate) segments: u32,
     /// Bytes of its own volume (0 when not voxelized).
     pub(crate) volume_bytes: u64,
+    /// Its own GPU memory: its strand buffers and its volume (the shared parts are the
+    /// frame's, in the report's `memory`).
+    pub(crate) memory: ObjectMemory,
     /// Why it was drawn otherwise than asked (`volume.budget_mib`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) fallback: Option<&'static str>,
     /// Its own passes (voxelization, raymarch, blend); the OIT, shadow and head passes are
     /// the frame's.
     pub(crate) passes: Vec<Pass>,
+}
+
+/// A head of hair's own GPU memory, bytes.
+#[derive(Serialize)]
+pub(crate) struct ObjectMemory {
+    pub(crate) total: u64,
+    pub(crate) geometry: u64,
+    pub(crate) volume: u64,
+}
+
+/// The frame's GPU memory, bytes: `total` and each part ([`tress_render::session::Memory`],
+/// the breakdown the viewer and the bench CSV show).
+#[derive(Serialize, Default)]
+pub(crate) struct MemoryReport {
+    pub(crate) total: u64,
+    pub(crate) geometry: u64,
+    pub(crate) oit: u64,
+    pub(crate) volumes: u64,
+    pub(crate) shadow_maps: u64,
+    pub(crate) textures: u64,
+    pub(crate) database: u64,
+}
+
+impl From<&Memory> for MemoryReport {
+    fn from(m: &Memory) -> MemoryReport {
+        MemoryReport {
+            total: m.total(),
+            geometry: m.geometry,
+            oit: m.oit,
+            volumes: m.volumes,
+            shadow_maps: m.shadow_maps,
+            textures: m.textures,
+            database: m.database,
+        }
+    }
 }
 
 impl ObjectReport {
@@ -79,6 +119,11 @@ impl ObjectReport {
                 coverage: o.coverage,
                 segments: o.segments,
                 volume_bytes: o.volume_bytes,
+                memory: ObjectMemory {
+                    total: o.geometry_bytes + o.volume_bytes,
+                    geometry: o.geometry_bytes,
+                    volume: o.volume_bytes,
+                },
                 fallback: o.fallback,
                 passes: passes(stats.gpu.as_ref().and_then(|g| g.object_timings.get(i))),
             })
@@ -109,6 +154,7 @@ impl Report {
             passes: Vec::new(),
             frame_gpu_ms: None,
             ppll: Ppll::default(),
+            memory: MemoryReport::from(&frame.memory),
             oit: None,
             output: output.display().to_string(),
             patches: None,

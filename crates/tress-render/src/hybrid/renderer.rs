@@ -242,6 +242,7 @@ impl Renderer {
                     (Some(v), true) => v.grid_bytes(),
                     _ => 0,
                 },
+                geometry_bytes: h.map_or(0, StrandGeometry::bytes),
                 fallback: p.fallback,
             })
             .collect();
