@@ -79,15 +79,31 @@ fn the_crowd_reports_each_character_drawn_by_its_size() {
     assert!(objects.windows(2).all(|w| size(&w[0]) > size(&w[1])));
     assert_eq!(objects[0]["technique"], "strands");
     assert_eq!(objects[5]["technique"], "volume");
-    // One volume per voxelized character beside the shared counters (64³: 20 bytes a voxel).
-    let volumes: u64 = objects
-        .iter()
-        .map(|o| o["volume_bytes"].as_u64().unwrap())
-        .sum();
+    // One volume per voxelized character, sized by the character on screen: two voxels a
+    // pixel across it (`volume.voxels_per_px`), the next of the steps 32, 48, 64 (`volume.min_resolution` 32 to the
+    // scene's `volume.resolution` 64); 8 bytes a voxel and 4 an 8³ block. Beside them the shared
+    // counters, 20 bytes a voxel of the largest.
+    let mut largest = 0;
+    let mut volumes = 0;
+    for o in objects.iter().filter(|o| o["technique"] != "strands") {
+        let r = o["volume_resolution"].as_u64().unwrap();
+        let px = o["size_px"].as_f64().unwrap();
+        let expected = [32, 48, 64]
+            .into_iter()
+            .find(|&s| s as f64 >= 2.0 * px)
+            .unwrap_or(64);
+        assert_eq!(r, expected, "{o}");
+        let bytes = o["volume_bytes"].as_u64().unwrap();
+        assert_eq!(bytes, r.pow(3) * 8 + r.div_ceil(8).pow(3) * 4, "{o}");
+        largest = largest.max(r);
+        volumes += bytes;
+    }
+    assert!(largest > 0);
     assert_eq!(
         v["volume"]["bytes"].as_u64().unwrap(),
-        64u64.pow(3) * 20 + volumes
+        largest.pow(3) * 20 + volumes
     );
+    assert_eq!(v["volume"]["resolution"].as_u64().unwrap(), largest);
     assert!(v["oit"]["fragments"].as_u64().unwrap() > 0 && v["oit"]["lost"] == 0);
 
     // The frame's GPU memory: the total is its parts; the volumes part is the volume report's

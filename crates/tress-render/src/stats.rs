@@ -93,6 +93,8 @@ pub struct ObjectFrame {
     pub segments: u32,
     /// Bytes of its own volume (texture and occupancy), 0 when not voxelized.
     pub volume_bytes: u64,
+    /// Voxels per axis of its own volume (by its size on screen; 0 when not voxelized).
+    pub volume_resolution: u32,
     /// Bytes of its own strand geometry buffers (the frame's head, OIT, shadow maps and
     /// voxel counters are shared: [`crate::session::Memory`]).
     pub geometry_bytes: u64,

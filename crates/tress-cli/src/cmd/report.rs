@@ -59,6 +59,8 @@ pub(crate) struct ObjectReport {
     pub(crate) segments: u32,
     /// Bytes of its own volume (0 when not voxelized).
     pub(crate) volume_bytes: u64,
+    /// Voxels per axis of its own volume, by its size on screen (0 when not voxelized).
+    pub(crate) volume_resolution: u32,
     /// Its own GPU memory: its strand buffers and its volume (the shared parts are the
     /// frame's, in the report's `memory`).
     pub(crate) memory: ObjectMemory,
@@ -119,6 +121,7 @@ impl ObjectReport {
                 coverage: o.coverage,
                 segments: o.segments,
                 volume_bytes: o.volume_bytes,
+                volume_resolution: o.volume_resolution,
                 memory: ObjectMemory {
                     total: o.geometry_bytes + o.volume_bytes,
                     geometry: o.geometry_bytes,

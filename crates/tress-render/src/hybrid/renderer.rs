@@ -219,27 +219,37 @@ impl Renderer {
     ) -> FrameStats {
         let hair = frame_objects(inputs.hair, inputs.material, self.technique, inputs.objects);
         let voxelized = sub.plans.iter().filter(|p| p.voxelize).count() as u64;
-        let volume = self
-            .voxelizer
-            .as_ref()
-            .filter(|_| voxelized > 0)
-            .map(|v| VolumeFrame {
-                resolution: v.resolution(),
-                bytes: v.counter_bytes() + v.grid_bytes() * voxelized,
-            });
+        let volume = self.voxelizer.as_ref().filter(|_| voxelized > 0).map(|v| {
+            let voxelized = || sub.plans.iter().enumerate().filter(|(_, p)| p.voxelize);
+            VolumeFrame {
+                resolution: voxelized()
+                    .filter_map(|(i, _)| v.grid_resolution(i))
+                    .max()
+                    .unwrap_or_else(|| v.resolution()),
+                bytes: v.counter_bytes()
+                    + voxelized()
+                        .map(|(i, _)| v.object_grid_bytes(i))
+                        .sum::<u64>(),
+            }
+        });
         let objects = sub
             .plans
             .iter()
+            .enumerate()
             .zip(&hair)
             .filter(|(_, (h, ..))| h.is_some())
-            .map(|(p, (h, ..))| ObjectFrame {
+            .map(|((i, p), (h, ..))| ObjectFrame {
                 technique: p.drawn(),
                 lod: p.lod,
                 size_px: p.extent.size_px,
                 coverage: p.extent.coverage,
                 segments: h.map_or(0, StrandGeometry::segment_count),
                 volume_bytes: match (&self.voxelizer, p.voxelize) {
-                    (Some(v), true) => v.grid_bytes(),
+                    (Some(v), true) => v.object_grid_bytes(i),
+                    _ => 0,
+                },
+                volume_resolution: match (&self.voxelizer, p.voxelize) {
+                    (Some(v), true) => v.grid_resolution(i).unwrap_or(0),
                     _ => 0,
                 },
                 geometry_bytes: h.map_or(0, StrandGeometry::bytes),
@@ -542,7 +552,19 @@ impl Renderer {
         params.lod_factor = plan.lod;
         params.lod_dither = u32::from(plan.dither);
         let mut volume = match hair {
-            Some(h) if plan.voxelize => Voxelizer::params(&self.volume_settings, h),
+            Some(h) if plan.voxelize => {
+                // Its own grid's resolution (by its size on screen), not `volume.resolution`.
+                let resolution = self
+                    .voxelizer
+                    .as_ref()
+                    .and_then(|v| v.grid_resolution(i))
+                    .unwrap_or(self.volume_settings.resolution);
+                let settings = crate::volume::VolumeSettings {
+                    resolution,
+                    ..self.volume_settings.clone()
+                };
+                Voxelizer::params(&settings, h)
+            }
             _ => VolumeParams::default(),
         };
         volume.world_from_clip = types::mat4(camera.clip_from_world().inverse());

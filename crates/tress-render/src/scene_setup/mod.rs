@@ -299,6 +299,9 @@ pub use crate::satf::scene::{ClusterSource, SatfScene, load_clusters, satf_setti
 #[serde(deny_unknown_fields, default)]
 struct VolumeTable {
     resolution: Option<u32>,
+    screen_resolution: Option<bool>,
+    min_resolution: Option<u32>,
+    voxels_per_px: Option<f32>,
     voxelize: Option<String>,
     reconstruction_radius: Option<u32>,
     max_strands_per_voxel: Option<u32>,
@@ -330,6 +333,9 @@ pub fn volume_settings(scene: &Scene) -> Result<VolumeSettings, RenderError> {
     }
     set!(
         resolution,
+        screen_resolution,
+        min_resolution,
+        voxels_per_px,
         reconstruction_radius,
         max_strands_per_voxel,
         steps,

@@ -193,7 +193,16 @@ pub(crate) fn sweep(name: &str, quick: bool, scene: &Scene) -> Result<Sweep> {
             series: techniques(&["volume"]),
             points: pick(&[32.0, 64.0, 128.0, 256.0], &[64.0, 128.0])
                 .into_iter()
-                .map(|r| point(r, vec![format!("volume.resolution={r}")]))
+                // The paper's fixed grid: not sized by the hair on screen.
+                .map(|r| {
+                    point(
+                        r,
+                        vec![
+                            format!("volume.resolution={r}"),
+                            "volume.screen_resolution=false".to_string(),
+                        ],
+                    )
+                })
                 .collect(),
         },
         "k" => Sweep {

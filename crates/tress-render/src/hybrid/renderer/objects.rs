@@ -11,6 +11,7 @@ use crate::gpu::types::{FiberCache, MaterialUniform, StrandParams, VolumeParams}
 use crate::gpu::uniform_buffer;
 use crate::hybrid::{FramePlan, TechniqueKind};
 use crate::strands::StrandGeometry;
+use crate::volume::VolumeSettings;
 use crate::volume::{VolumeBinding, Voxelizer};
 use crate::{GpuContext, Material, RenderError};
 
@@ -40,8 +41,8 @@ pub(crate) struct ObjectSlot {
     pub(crate) volume_params: wgpu::Buffer,
     pub(crate) view_group: wgpu::BindGroup,
     pub(crate) lighting_group: wgpu::BindGroup,
-    /// Whether the lighting group shows the object's own volume (else the empty one).
-    pub(crate) shows_volume: bool,
+    /// The serial of the object's own volume the lighting group shows (`None`: the empty one).
+    pub(crate) shows_volume: Option<u64>,
     /// The material fibre's uniform (filled only while the strands shade with it).
     pub(crate) fiber: FiberCache,
 }
@@ -74,7 +75,7 @@ impl Renderer {
             )
         })?;
         let view_group = view_group(ctx, &self.layouts, &self.services.camera, &params)?;
-        let volume = self.voxelizer.as_ref().filter(|v| v.has_grid(index));
+        let volume = self.voxelizer.as_ref().and_then(|v| v.grid_serial(index));
         let lighting_group = self.slot_lighting_group(ctx, index, &material, &volume_params)?;
         Ok(ObjectSlot {
             params,
@@ -82,7 +83,7 @@ impl Renderer {
             volume_params,
             view_group,
             lighting_group,
-            shows_volume: volume.is_some(),
+            shows_volume: volume,
             fiber: FiberCache::default(),
         })
     }
@@ -129,15 +130,15 @@ impl Renderer {
         Ok(())
     }
 
-    /// Rebuild the lighting group of every slot whose volume changed (or of all, `force`: the
-    /// shadow maps or the volume's resolution changed).
+    /// Rebuild the lighting group of every slot whose volume changed (was allocated, resized or
+    /// freed), or of all (`force`: the shadow maps or the volume's resolution changed).
     pub(super) fn refresh_lighting_groups(
         &mut self,
         ctx: &GpuContext,
         force: bool,
     ) -> Result<(), RenderError> {
         for i in 0..self.slots.len() {
-            let has = self.voxelizer.as_ref().is_some_and(|v| v.has_grid(i));
+            let has = self.voxelizer.as_ref().and_then(|v| v.grid_serial(i));
             if force || has != self.slots[i].shows_volume {
                 let slot = &self.slots[i];
                 let group =
@@ -149,22 +150,60 @@ impl Renderer {
         Ok(())
     }
 
-    /// Give every head of hair that voxelizes a volume within `volume.budget_mib`, in order;
-    /// one that does not fit is drawn as strands instead (warned once until it fits again).
-    /// Volumes of heads of hair that no longer voxelize are freed.
+    /// The grid resolution of object `i` drawn as `d` this frame: by its size on screen
+    /// ([`VolumeSettings::object_resolution`]), its current one kept while what it needs is
+    /// at least two thirds of it (one step of hysteresis: a character moving to and fro across
+    /// a step does not change resolution every frame).
+    fn object_resolution(&self, i: usize, d: &Drawn<'_>) -> u32 {
+        let wanted = self
+            .volume_settings
+            .object_resolution(d.plan.extent.size_px);
+        match self.voxelizer.as_ref().and_then(|v| v.grid_resolution(i)) {
+            Some(current)
+                if current >= wanted
+                    && current <= self.volume_settings.resolution
+                    && wanted * 3 >= current * 2 =>
+            {
+                current
+            }
+            _ => wanted,
+        }
+    }
+
+    /// Give every head of hair that voxelizes a volume within `volume.budget_mib`, in order, at
+    /// its resolution on screen; one that does not fit is drawn as strands instead (warned once
+    /// until it fits again). Volumes of heads of hair that no longer voxelize are freed.
     pub(super) fn grant_volumes(
         &mut self,
         ctx: &GpuContext,
         drawn: &mut [Drawn<'_>],
     ) -> Result<(), RenderError> {
+        let resolutions: Vec<u32> = drawn
+            .iter()
+            .enumerate()
+            .map(|(i, d)| self.object_resolution(i, d))
+            .collect();
         let settings = &self.volume_settings;
         let budget = u64::from(settings.budget_mib) << 20;
-        let (counters, per_object) = (settings.counter_bytes(), settings.resident_bytes());
+        let at = |resolution: u32| VolumeSettings {
+            resolution,
+            ..VolumeSettings::default()
+        };
+        // The counters are as large as the largest grid voxelized.
+        let largest = drawn
+            .iter()
+            .zip(&resolutions)
+            .filter(|(d, _)| d.plan.voxelize)
+            .map(|(_, &r)| r)
+            .max()
+            .unwrap_or(settings.resolution);
+        let counters = at(largest).counter_bytes();
         let mut used = counters;
         for (i, d) in drawn.iter_mut().enumerate() {
             if !d.plan.voxelize {
                 continue;
             }
+            let per_object = at(resolutions[i]).resident_bytes();
             if used + per_object > budget {
                 if !self.warned.get(i).copied().unwrap_or(false) {
                     tracing::warn!(
@@ -198,18 +237,19 @@ impl Renderer {
             self.voxelizer = Some(Voxelizer::with_params(
                 ctx,
                 &self.layouts,
-                self.volume_settings.resolution,
+                (self.volume_settings.resolution, largest),
                 &self.slots[0].volume_params,
             )?);
         }
         if let Some(v) = &mut self.voxelizer {
             for (i, slot) in self.slots.iter().enumerate() {
                 if wants.get(i).copied().unwrap_or(false) {
-                    v.ensure_grid(ctx, i, &slot.volume_params)?;
+                    v.ensure_grid(ctx, i, &slot.volume_params, resolutions[i])?;
                 } else {
                     v.release_grid(i);
                 }
             }
+            v.fit_scratch(ctx)?;
         }
         self.refresh_lighting_groups(ctx, false)
     }

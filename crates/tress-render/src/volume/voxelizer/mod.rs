@@ -48,6 +48,11 @@ struct Grid {
     resolve_group: wgpu::BindGroup,
     /// The settings uniform its passes read.
     params: wgpu::Buffer,
+    /// Voxels per axis.
+    res: u32,
+    /// Unique among the voxelizer's grids: a bind group showing this grid is current while the
+    /// object's serial is the one it was built with.
+    serial: u64,
 }
 
 /// The strand voxelizer (§3.3): owns the counters, the volume textures and the three compute
@@ -56,15 +61,23 @@ struct Grid {
 ///
 /// A frame of several heads of hair keeps one volume per object that needs one (its texture and
 /// occupancy, about 8 bytes a voxel) and voxelizes them one after another through one shared
-/// set of counters ([`Voxelizer::counter_bytes`], 20 bytes a voxel). The standalone API
-/// (`voxelize`, `view`, `read_back`) works on object 0.
+/// set of counters ([`Voxelizer::counter_bytes`], 20 bytes a voxel). Each object's grid has its
+/// own resolution (the renderer sizes it by the object's size on screen,
+/// [`VolumeSettings::object_resolution`]); the counters are sized for the largest grid and each
+/// voxelization clears and uses only its own grid's share of them. The standalone API
+/// (`voxelize`, `view`, `read_back`) works on object 0 at [`Voxelizer::resolution`].
 #[derive(Debug)]
 pub struct Voxelizer {
     bounds: VolumeBounds,
     voxelize: Voxelize,
     resolve: VolumeResolve,
+    /// The resolution of the standalone API (and the renderer's `volume.resolution`).
     res: u32,
     scratch: Scratch,
+    /// Voxels per axis the counters hold.
+    scratch_res: u32,
+    /// The next grid's serial.
+    next_serial: u64,
     /// Object `i`'s volume, once it has needed one.
     grids: Vec<Option<Grid>>,
     /// The settings uniform of object 0 (the standalone API's).
@@ -109,28 +122,36 @@ impl Voxelizer {
                 contents: bytemuck::bytes_of(&VolumeParams::default()),
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             });
-        let mut voxelizer =
-            Self::with_params(ctx, &Layouts::new(&ctx.device), resolution, &params)?;
-        voxelizer.ensure_grid(ctx, 0, &params)?;
+        let mut voxelizer = Self::with_params(
+            ctx,
+            &Layouts::new(&ctx.device),
+            (resolution, resolution),
+            &params,
+        )?;
+        voxelizer.ensure_grid(ctx, 0, &params, resolution)?;
         Ok(voxelizer)
     }
 
     /// A voxelizer with no volume yet, whose object 0 reads its settings from `params` (a
     /// [`VolumeParams`] uniform the caller writes each frame); objects get theirs with
-    /// [`Voxelizer::ensure_grid`].
+    /// [`Voxelizer::ensure_grid`]. Its counters start at `scratch_resolution³` (at most
+    /// `resolution`) and grow with the grids.
     pub(crate) fn with_params(
         ctx: &GpuContext,
         layouts: &Layouts,
-        resolution: u32,
+        (resolution, scratch_resolution): (u32, u32),
         params: &wgpu::Buffer,
     ) -> Result<Self, RenderError> {
         Self::check(ctx, resolution)?;
+        let scratch_res = scratch_resolution.clamp(1, resolution);
         Ok(Voxelizer {
             bounds: VolumeBounds::new(ctx, layouts)?,
             voxelize: Voxelize::new(ctx, layouts)?,
             resolve: VolumeResolve::new(ctx)?,
             res: resolution,
-            scratch: Self::allocate_scratch(ctx, resolution)?,
+            scratch: Self::allocate_scratch(ctx, scratch_res)?,
+            scratch_res,
+            next_serial: 0,
             grids: Vec::new(),
             params0: params.clone(),
         })
@@ -197,8 +218,14 @@ impl Voxelizer {
         })
     }
 
-    fn allocate_grid(&self, ctx: &GpuContext, params: &wgpu::Buffer) -> Result<Grid, RenderError> {
-        let res = self.res;
+    fn allocate_grid(
+        &mut self,
+        ctx: &GpuContext,
+        params: &wgpu::Buffer,
+        res: u32,
+    ) -> Result<Grid, RenderError> {
+        let serial = self.next_serial;
+        self.next_serial += 1;
         let blocks = u64::from(res.div_ceil(OCCUPANCY_BLOCK)).pow(3) * 4;
         let Scratch {
             counts,
@@ -308,22 +335,31 @@ impl Voxelizer {
                 voxelize_group,
                 resolve_group,
                 params: params.clone(),
+                res,
+                serial,
             }
         })
     }
 
-    /// Give object `object` a volume reading its settings from `params`, if it has none; true
-    /// when one was allocated (the caller rebuilds the bind groups that show it).
+    /// Give object `object` a `res³` volume reading its settings from `params`, unless it has
+    /// one of that resolution; true when one was allocated (the caller rebuilds the bind groups
+    /// that show it: [`Voxelizer::grid_serial`] tells which). Counters too small for it grow,
+    /// which rebuilds every grid.
     pub(crate) fn ensure_grid(
         &mut self,
         ctx: &GpuContext,
         object: usize,
         params: &wgpu::Buffer,
+        res: u32,
     ) -> Result<bool, RenderError> {
-        if self.grids.get(object).is_some_and(Option::is_some) {
+        if self.grid(object).is_some_and(|g| g.res == res) {
             return Ok(false);
         }
-        let grid = self.allocate_grid(ctx, params)?;
+        Self::check(ctx, res)?;
+        if res > self.scratch_res {
+            self.resize_scratch(ctx, res)?;
+        }
+        let grid = self.allocate_grid(ctx, params, res)?;
         if self.grids.len() <= object {
             self.grids.resize_with(object + 1, || None);
         }
@@ -331,14 +367,51 @@ impl Voxelizer {
         Ok(true)
     }
 
+    /// Size the counters for the largest grid there is (after grids were released or shrunk);
+    /// true when they changed, which rebuilds every grid.
+    pub(crate) fn fit_scratch(&mut self, ctx: &GpuContext) -> Result<bool, RenderError> {
+        let Some(largest) = self.grids.iter().flatten().map(|g| g.res).max() else {
+            return Ok(false);
+        };
+        if largest == self.scratch_res {
+            return Ok(false);
+        }
+        self.resize_scratch(ctx, largest)?;
+        Ok(true)
+    }
+
+    /// New counters of `res³`, and every grid rebuilt over them (their bind groups name the
+    /// counters; what they hold is rebuilt by the next voxelization anyway).
+    fn resize_scratch(&mut self, ctx: &GpuContext, res: u32) -> Result<(), RenderError> {
+        self.scratch = Self::allocate_scratch(ctx, res)?;
+        self.scratch_res = res;
+        let kept: Vec<Option<(wgpu::Buffer, u32)>> = self
+            .grids
+            .iter()
+            .map(|g| g.as_ref().map(|g| (g.params.clone(), g.res)))
+            .collect();
+        for (object, k) in kept.into_iter().enumerate() {
+            if let Some((params, res)) = k {
+                let grid = self.allocate_grid(ctx, &params, res)?;
+                self.grids[object] = Some(grid);
+            }
+        }
+        Ok(())
+    }
+
+    /// Object `object`'s grid resolution (`None` without a volume).
+    pub(crate) fn grid_resolution(&self, object: usize) -> Option<u32> {
+        self.grid(object).map(|g| g.res)
+    }
+
+    /// The serial of object `object`'s grid: it changes whenever the grid is reallocated.
+    pub(crate) fn grid_serial(&self, object: usize) -> Option<u64> {
+        self.grid(object).map(|g| g.serial)
+    }
+
     /// Free object `object`'s volume (it no longer needs one); true when it had one.
     pub(crate) fn release_grid(&mut self, object: usize) -> bool {
         self.grids.get_mut(object).and_then(Option::take).is_some()
-    }
-
-    /// Whether object `object` has a volume.
-    pub(crate) fn has_grid(&self, object: usize) -> bool {
-        self.grid(object).is_some()
     }
 
     fn grid(&self, object: usize) -> Option<&Grid> {
@@ -352,23 +425,15 @@ impl Voxelizer {
     }
 
     /// Reallocate for another resolution (no-op when it is the same): the counters and every
-    /// object's volume.
+    /// object's volume, all at `resolution`.
     pub fn set_resolution(&mut self, ctx: &GpuContext, resolution: u32) -> Result<(), RenderError> {
         if resolution != self.res {
             Self::check(ctx, resolution)?;
             self.res = resolution;
-            self.scratch = Self::allocate_scratch(ctx, resolution)?;
-            let params: Vec<Option<wgpu::Buffer>> = self
-                .grids
-                .iter()
-                .map(|g| g.as_ref().map(|g| g.params.clone()))
-                .collect();
-            self.grids.clear();
-            for (object, p) in params.iter().enumerate() {
-                if let Some(p) = p {
-                    self.ensure_grid(ctx, object, p)?;
-                }
+            for g in self.grids.iter_mut().flatten() {
+                g.res = resolution;
             }
+            self.resize_scratch(ctx, resolution)?;
         }
         Ok(())
     }
@@ -380,18 +445,27 @@ impl Voxelizer {
 
     /// Bytes of the counters, and of every object's texture and occupancy.
     pub fn bytes(&self) -> u64 {
-        self.counter_bytes() + self.grid_bytes() * self.grid_count() as u64
+        self.counter_bytes()
+            + (0..self.grids.len())
+                .map(|i| self.object_grid_bytes(i))
+                .sum::<u64>()
     }
 
-    /// Bytes of the shared voxel counters (20 a voxel).
+    /// Bytes of the shared voxel counters (20 a voxel of the largest grid).
     pub fn counter_bytes(&self) -> u64 {
-        self.settings().counter_bytes()
+        Self::settings_at(self.scratch_res).counter_bytes()
     }
 
-    /// Bytes one object's volume keeps between frames: its two textures (8 a voxel) and
-    /// occupancy blocks.
+    /// Bytes a volume at [`Voxelizer::resolution`] keeps between frames: its two textures (8 a
+    /// voxel) and occupancy blocks.
     pub fn grid_bytes(&self) -> u64 {
-        self.settings().resident_bytes()
+        Self::settings_at(self.res).resident_bytes()
+    }
+
+    /// Bytes object `object`'s volume keeps between frames (0 without one).
+    pub fn object_grid_bytes(&self, object: usize) -> u64 {
+        self.grid(object)
+            .map_or(0, |g| Self::settings_at(g.res).resident_bytes())
     }
 
     /// Objects that have a volume.
@@ -399,9 +473,9 @@ impl Voxelizer {
         self.grids.iter().flatten().count()
     }
 
-    fn settings(&self) -> VolumeSettings {
+    fn settings_at(resolution: u32) -> VolumeSettings {
         VolumeSettings {
-            resolution: self.res,
+            resolution,
             ..Default::default()
         }
     }
@@ -450,15 +524,18 @@ impl Voxelizer {
     ) {
         let Some(g) = self.grid(object) else { return };
         let s = &self.scratch;
-        for b in [
-            &s.counts,
-            &s.tangent_xy,
-            &s.tangent_z,
-            &s.highlights,
-            &g.stats,
-            &g.occupancy,
+        // Only the grid's own share of the counters: a far character's small grid clears
+        // kilobytes, not the largest grid's megabytes.
+        let words = u64::from(g.res).pow(3) * 4;
+        for (b, size) in [
+            (&s.counts, Some(words)),
+            (&s.tangent_xy, Some(words)),
+            (&s.tangent_z, Some(words)),
+            (&s.highlights, Some(words * 2)),
+            (&g.stats, None),
+            (&g.occupancy, None),
         ] {
-            encoder.clear_buffer(b, 0, None);
+            encoder.clear_buffer(b, 0, size);
         }
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -561,7 +638,7 @@ impl Voxelizer {
         settings.validate()?;
         self.set_resolution(ctx, settings.resolution)?;
         let params0 = self.params0.clone();
-        self.ensure_grid(ctx, 0, &params0)?;
+        self.ensure_grid(ctx, 0, &params0, settings.resolution)?;
         let mut params = Self::params(settings, geometry);
         params.fade_ref = fade_ref;
         match view {

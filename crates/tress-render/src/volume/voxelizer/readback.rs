@@ -40,7 +40,7 @@ impl Voxelizer {
     /// Read object 0's volume and the counters back (slow: for tests and tools).
     pub fn read_back(&self, ctx: &GpuContext) -> Result<VolumeReadback, RenderError> {
         let g = self.grid0()?;
-        let res = self.res;
+        let res = g.res;
         let n = u64::from(res).pow(3);
         let words = |b: &wgpu::Buffer| -> Result<Vec<u32>, RenderError> {
             Ok(bytemuck::cast_slice(&self.read(ctx, b, n * 4)?).to_vec())
@@ -53,9 +53,9 @@ impl Voxelizer {
         let grid: VolumeGrid = bytemuck::pod_read_unaligned(&self.read(ctx, &g.grid, GRID_BYTES)?);
         let keys = bytemuck::pod_read_unaligned(&self.read(ctx, &g.keys, 24)?);
         let stats = bytemuck::pod_read_unaligned(&self.read(ctx, &g.stats, 16)?);
-        let bytes = self.read_texture(ctx, &g.texture)?;
+        let bytes = self.read_texture(ctx, &g.texture, res)?;
         let highlight_texels: Vec<[u8; 4]> = self
-            .read_texture(ctx, &g.highlight_texture)?
+            .read_texture(ctx, &g.highlight_texture, res)?
             .chunks_exact(4)
             .map(|t| [t[0], t[1], t[2], t[3]])
             .collect();
@@ -96,8 +96,8 @@ impl Voxelizer {
         &self,
         ctx: &GpuContext,
         texture: &wgpu::Texture,
+        res: u32,
     ) -> Result<Vec<u8>, RenderError> {
-        let res = self.res;
         let row = res * 4;
         let padded =
             row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
