@@ -32,7 +32,12 @@
 //!    trajectory but lie beyond it (roots spread along the hair's direction, a short strand
 //!    starting ahead of the others) would lose that distance; the trajectory is extended along
 //!    its end tangents to the farthest such point and the points projected again, so every
-//!    point, tips included, lies in a normal plane of the trajectory.
+//!    point, tips included, lies in a normal plane of the trajectory. The extended trajectory
+//!    is refitted to the curve and its straight extensions sampled alike (as densely as the
+//!    curve), so it follows them: with one point per extension, the end knot spans had almost
+//!    no data and the spline's control point there shot off (on a fan of strands of 6 to 9
+//!    units leaving a ponytail's tie, whose mean is short and whose tips lie past both of its
+//!    ends, a 51-unit axis: a spike above the crown).
 //! 5. **Ellipse.** The offsets are binned in [`FitSettings::profile_bins`] bins of `t`. The twist
 //!    `q` is each bin's principal direction (a 2×2 PCA of the second moments about the
 //!    trajectory), unwrapped modulo π, taken only from bins elongated enough for a direction to
@@ -66,11 +71,18 @@
 //!    diagonal by default, a pixel or two, not worth a cluster), or farther than twenty minimum
 //!    half-axes (2% of the diagonal: a wide, flat root ring across a curved patch, small next
 //!    to its own half-axis but pixels off the hair's silhouette), the group is cut in two at its
-//!    widest gap (as in step 2) and both halves are fitted again, down to groups of 4 strands.
-//!    Halving a patch's width quarters its sagitta. The groups are split in rounds, the worst
-//!    first (by the larger of the two distances, each over its threshold), while the clusters
-//!    number at most [`FitSettings::max_clusters`] (512): each cluster's layer mesh takes GPU
-//!    memory, and splitting every group of a 50,000-strand asset to the end gives thousands.
+//!    widest gap (as in step 2) and both halves are fitted again, down to groups of 4 strands
+//!    on the first test.
+//!    Halving a patch's width quarters its sagitta. A group of fewer than 8 strands is split
+//!    only on the second test (a shell point over twenty minimum half-axes from every strand),
+//!    down to single strands: a few strands of a fan leaving a ponytail's tie in different
+//!    directions span a ribbon across the scalp's curve. The groups are split in rounds, the
+//!    worst first (by the larger of the two distances, each over its threshold), each round
+//!    only those within a tenth of the worst's score, while the clusters number at most
+//!    [`FitSettings::max_clusters`] (512): each cluster's layer mesh takes GPU memory, and
+//!    splitting every group of a 50,000-strand asset to the end gives thousands, so the budget
+//!    goes to the groups straying most, not to every group straying a little in the first
+//!    rounds.
 //!
 //! A group whose strands give no trajectory (their mean has no length, e.g. strands leaving one
 //! root in opposite directions) is fitted strand by strand instead; a strand that cannot carry a
@@ -113,7 +125,8 @@ use crate::hierarchy::{
 
 pub use group::{group_strands, resample};
 
-/// Groups are not split below this many strands (step 7).
+/// Groups are not split below this many strands on the relative stray test (step 7); the
+/// absolute one splits down to single strands.
 const MIN_SPLIT_STRANDS: usize = 4;
 /// Default smallest half-axis, as a fraction of the diagonal of the hair's bounding box.
 pub const MIN_RADIUS_FRACTION: f32 = 1e-3;
@@ -146,8 +159,9 @@ pub struct FitSettings {
     /// How the twist acts. Default [`TwistMode::RotateAxes`].
     pub twist_mode: TwistMode,
     /// Split a group in two while some point of its shell lies farther from every strand than
-    /// this fraction of the cross-section's larger half-axis there, or than twenty minimum
-    /// half-axes (step 7; 0: never split). Default 0.75.
+    /// this fraction of the cross-section's larger half-axis there (groups of 8 strands or
+    /// more), or than twenty minimum half-axes (any group; step 7; 0: never split). Default
+    /// 0.75.
     pub stray_split: f32,
     /// Most clusters step 7 splits groups into (each cluster's layer mesh takes GPU memory);
     /// the groups of step 2 are all kept even above it. Default 512.
@@ -445,17 +459,25 @@ fn extend(
     n_control: usize,
 ) -> Result<BSpline<Vec3>, SatfError> {
     let (start, end) = (axis.frame(0.0), axis.frame(1.0));
-    let mut polyline = Vec::with_capacity(EXTENSION_SAMPLES + 2);
-    if before > 0.0 {
-        polyline.push(start.position - before * start.tangent);
-    }
+    // The straight extensions are sampled as densely as the curve: a single point at the end
+    // of a long extension left the end knot spans without data, and the spline's free control
+    // point there shot off by several times the strands' length (a spike).
+    let step = axis.length() / (EXTENSION_SAMPLES - 1) as f32;
+    let samples = |d: f32| (d / step.max(f32::MIN_POSITIVE)).ceil().min(1e4) as usize;
+    let (n_before, n_after) = (samples(before), samples(after));
+    let mut polyline = Vec::with_capacity(EXTENSION_SAMPLES + n_before + n_after);
+    polyline.extend(
+        (0..n_before)
+            .rev()
+            .map(|k| start.position - before * ((k + 1) as f32 / n_before as f32) * start.tangent),
+    );
     polyline.extend((0..EXTENSION_SAMPLES).map(|i| {
         axis.frame(i as f32 / (EXTENSION_SAMPLES - 1) as f32)
             .position
     }));
-    if after > 0.0 {
-        polyline.push(end.position + after * end.tangent);
-    }
+    polyline.extend(
+        (1..=n_after).map(|k| end.position + after * (k as f32 / n_after as f32) * end.tangent),
+    );
     let arc = cumulative_length(&polyline);
     let total = arc.last().copied().unwrap_or(0.0).max(f32::MIN_POSITIVE);
     let params: Vec<f32> = arc.iter().map(|s| (s / total).clamp(0.0, 1.0)).collect();

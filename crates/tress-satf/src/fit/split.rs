@@ -8,6 +8,9 @@ use super::{FitSettings, MIN_SPLIT_STRANDS, fit_cluster, group_strands, stray};
 use crate::error::SatfError;
 use crate::hierarchy::MacroCluster;
 
+/// Each round cuts the groups whose stray score is at least this share of the worst's.
+const WORST_SHARE: f32 = 0.9;
+
 /// A fitted group: its strands (indices into the resampled strands), its cluster and how far
 /// its shell strays over the threshold ([`stray::stray_score`]; 0 when it is not to be split).
 struct Fitted {
@@ -18,9 +21,12 @@ struct Fitted {
 
 /// The clusters of `groups` (indices into `kept`) and the number of strands that could not be
 /// fitted. In rounds, the groups whose shell strays by more than [`FitSettings::stray_split`]
-/// of its half-axis or than 2% of the hair's diagonal are cut in two, the worst first, as long as the clusters stay within
-/// [`FitSettings::max_clusters`] (the groups of step 2 are all kept, even above it; a half
-/// without a trajectory, fitted strand by strand, may also go past it).
+/// of its half-axis or than 2% of the hair's diagonal are cut in two, as long as the clusters
+/// stay within [`FitSettings::max_clusters`] (the groups of step 2 are all kept, even above it;
+/// a half without a trajectory, fitted strand by strand, may also go past it). Each round cuts
+/// only the groups that stray within a tenth as far as the worst, worst first, so the budget
+/// goes where the shell strays most (a fan of strands from a ponytail's tie, cut down to a few
+/// strands) rather than to every group straying a little in the first rounds.
 pub(super) fn fit_groups(
     kept: &[Vec<Vec3>],
     groups: Vec<Vec<u32>>,
@@ -29,9 +35,13 @@ pub(super) fn fit_groups(
     let (mut fitted, mut lost) = fit_all(kept, groups, settings)?;
     loop {
         let mut room = (settings.max_clusters as usize).saturating_sub(fitted.len());
+        let top = fitted.iter().map(|f| f.stray).fold(0.0f32, f32::max);
         let mut worst: Vec<usize> = (0..fitted.len())
-            .filter(|&i| fitted[i].stray > 1.0)
+            .filter(|&i| fitted[i].stray > 1.0 && fitted[i].stray >= WORST_SHARE * top)
             .collect();
+        if worst.is_empty() || room == 0 {
+            break;
+        }
         worst.sort_by(|&a, &b| fitted[b].stray.total_cmp(&fitted[a].stray));
         let mut halves = Vec::new();
         let mut cut = vec![false; fitted.len()];
@@ -41,17 +51,15 @@ pub(super) fn fit_groups(
             }
             // Usually two halves; more where a half is still too large for the cut.
             let h = halve(kept, &fitted[i].strands, settings);
-            if h.len() < 2 {
-                // No cut separates these strands: keep the group as it is.
-                fitted[i].stray = 0.0;
-            } else if h.len() - 1 <= room {
+            if h.len() >= 2 && h.len() - 1 <= room {
                 room -= h.len() - 1;
                 halves.extend(h);
                 cut[i] = true;
+            } else {
+                // No cut separates these strands, or its halves do not fit in the budget
+                // (which only shrinks): keep the group as it is.
+                fitted[i].stray = 0.0;
             }
-        }
-        if halves.is_empty() {
-            break;
         }
         let mut index = 0;
         fitted.retain(|_| {
@@ -78,10 +86,17 @@ fn fit_all(
             let strands: Vec<&[Vec3]> = g.iter().map(|&i| kept[i as usize].as_slice()).collect();
             match fit_cluster(&strands, settings) {
                 Ok(cluster) => {
-                    let splittable =
-                        strands.len() >= 2 * MIN_SPLIT_STRANDS && settings.stray_split > 0.0;
-                    let stray = if splittable {
-                        stray::stray_score(&cluster, &strands, floor, settings.stray_split)
+                    // Groups too small for the relative test may still be split where their
+                    // shell lies far from every strand.
+                    let relative = strands.len() >= 2 * MIN_SPLIT_STRANDS;
+                    let stray = if settings.stray_split > 0.0 {
+                        stray::stray_score(
+                            &cluster,
+                            &strands,
+                            floor,
+                            settings.stray_split,
+                            relative,
+                        )
                     } else {
                         0.0
                     };

@@ -18,11 +18,23 @@ const SHELL_T: usize = 16;
 const SHELL_U: usize = 16;
 
 /// How far the shell of `m` strays, over its threshold: the larger of [`stray_ratio`] over
-/// `split` and the farthest such point's distance over [`STRAY_RADII`] minimum half-axes
-/// (`floor`). Above 1 the group is to be split; 0 for a single strand.
-pub(super) fn stray_score(m: &MacroCluster, strands: &[&[Vec3]], floor: f32, split: f32) -> f32 {
+/// `split` (only when `relative`: groups of 8 strands or more) and the farthest such point's
+/// distance over [`STRAY_RADII`] minimum half-axes (`floor`). Above 1 the group is to be
+/// split; 0 for a single strand.
+pub(super) fn stray_score(
+    m: &MacroCluster,
+    strands: &[&[Vec3]],
+    floor: f32,
+    split: f32,
+    relative: bool,
+) -> f32 {
     stray_ratio(m, strands, floor).map_or(0.0, |(ratio, farthest)| {
-        (ratio / split).max(farthest / (STRAY_RADII * floor.max(f32::MIN_POSITIVE)))
+        let absolute = farthest / (STRAY_RADII * floor.max(f32::MIN_POSITIVE));
+        if relative {
+            (ratio / split).max(absolute)
+        } else {
+            absolute
+        }
     })
 }
 
