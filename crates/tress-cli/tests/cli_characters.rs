@@ -161,3 +161,36 @@ fn a_technique_on_the_command_line_draws_every_character() {
     );
     assert!(v.get("volume").is_none(), "nothing voxelized");
 }
+
+/// `hybrid.budget_ms` under `auto`: a generous budget picks what the sizes pick, a budget no
+/// frame can meet draws every character with one renderer only (a hybrid pays for both), and
+/// never more characters as hybrids than without a budget.
+#[test]
+fn a_frame_budget_drops_hybrids_before_it_is_exceeded() {
+    if skip_gpu() {
+        return;
+    }
+    let thresholds = [
+        "--set",
+        "hybrid.auto_near_px=120",
+        "--set",
+        "hybrid.auto_far_px=60",
+    ];
+    let techniques = |extra: &[&str]| -> Vec<String> {
+        let mut args = thresholds.to_vec();
+        args.extend_from_slice(extra);
+        let v = render("crowd-budget.png", &args);
+        v["objects"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|o| o["technique"].as_str().unwrap().to_string())
+            .collect()
+    };
+    let by_size = techniques(&[]);
+    assert!(by_size.iter().any(|t| t == "hybrid"), "{by_size:?}");
+    assert_eq!(techniques(&["--set", "hybrid.budget_ms=1e9"]), by_size);
+    let tight = techniques(&["--set", "hybrid.budget_ms=0.001"]);
+    assert!(tight.iter().all(|t| t != "hybrid"), "{tight:?}");
+    assert_eq!(tight.len(), by_size.len());
+}

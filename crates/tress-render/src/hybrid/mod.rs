@@ -25,6 +25,7 @@ use std::str::FromStr;
 
 use crate::RenderError;
 
+pub mod budget;
 mod lod_blend;
 mod plan;
 pub(crate) mod renderer;
@@ -110,6 +111,12 @@ pub struct HybridSettings {
     /// (default 240); between the two, the hybrid's blend with `f = 1 - smoothstep(far, near,
     /// size)`.
     pub auto_far_px: f32,
+    /// Under `technique = "auto"` with several characters: the GPU milliseconds a frame may
+    /// take. Each character's choice by size is kept, nearest first, while it fits beside the
+    /// cheapest the farther ones can be drawn; otherwise it is drawn as the cheaper renderer
+    /// that fits (strands before the volume), by costs measured on this device
+    /// ([`budget`]). `None` (default): no budget, the choice by size alone.
+    pub budget_ms: Option<f32>,
 }
 
 impl Default for HybridSettings {
@@ -121,6 +128,7 @@ impl Default for HybridSettings {
             transition: Transition::Alpha,
             auto_near_px: 720.0,
             auto_far_px: 240.0,
+            budget_ms: None,
         }
     }
 }
@@ -145,6 +153,11 @@ impl HybridSettings {
         }
         if !(self.auto_near_px >= self.auto_far_px && self.auto_near_px.is_finite()) {
             return bad("auto_near_px", "must be finite and at least `auto_far_px`");
+        }
+        if let Some(ms) = self.budget_ms
+            && !(ms > 0.0 && ms.is_finite())
+        {
+            return bad("budget_ms", "must be positive and finite");
         }
         Ok(())
     }

@@ -180,6 +180,20 @@ impl FramePlan {
         }
     }
 
+    /// This plan at another blend factor (`hybrid.budget_ms` chose it), drawn among several
+    /// heads of hair (dithered when both renderers draw).
+    pub(crate) fn at_factor(
+        &self,
+        lod: f32,
+        (hybrid, strands, volume): (&HybridSettings, &StrandSettings, &VolumeSettings),
+    ) -> Self {
+        let mut plan = Self::with_factor(lod, self.strands || self.volume, hybrid, strands, volume);
+        plan.dither = plan.blend();
+        plan.extent = self.extent;
+        plan.fallback = self.fallback;
+        plan
+    }
+
     /// This plan as strands alone, without anything from the volume (its volume did not fit
     /// the budget): `why` is reported.
     pub(crate) fn strands_only(

@@ -35,6 +35,7 @@
 //! front of a rasterized one is covered by its hair where they overlap: `auto` never draws that,
 //! as it rasterizes the larger, nearer ones).
 
+mod costs;
 mod objects;
 mod setup;
 
@@ -119,6 +120,8 @@ pub struct Renderer {
     services: FrameServices,
     /// Objects already warned about their volume not fitting the budget.
     warned: Vec<bool>,
+    /// What the renderers cost on this device, learned from the frames (`hybrid.budget_ms`).
+    costs: crate::hybrid::budget::CostModel,
 }
 
 /// What one submitted frame was: its index, readback slot, plans and OIT.
@@ -203,7 +206,9 @@ impl Renderer {
                 continue;
             }
             let ppll = (ppll_capacity, ppll_bytes);
-            return Ok(self.frame_stats(inputs, size, &sub, (attempts, ppll), report));
+            let stats = self.frame_stats(inputs, size, &sub, (attempts, ppll), report);
+            self.learn_costs(&stats);
+            return Ok(stats);
         }
     }
 
@@ -294,6 +299,9 @@ impl Renderer {
                 plan: FramePlan::new(technique, settings, &inputs.shared.camera, h, several),
             })
             .collect();
+        if several {
+            self.fit_budget(&mut drawn, &hair, size);
+        }
         self.ensure_slots(ctx, drawn.len())?;
         self.grant_volumes(ctx, &mut drawn)?;
         let single = (!several).then(|| drawn[0]);

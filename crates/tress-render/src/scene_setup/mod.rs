@@ -379,6 +379,7 @@ struct HybridTable {
     transition: Option<String>,
     auto_near_px: Option<f32>,
     auto_far_px: Option<f32>,
+    budget_ms: Option<f32>,
 }
 
 /// Level-of-detail settings from the scene's `[hybrid]` table over [`HybridSettings::default`]
@@ -387,6 +388,7 @@ pub fn hybrid_settings(scene: &Scene) -> Result<HybridSettings, RenderError> {
     let t: HybridTable = scene.technique_settings("hybrid")?;
     let mut s = HybridSettings {
         lod: t.lod,
+        budget_ms: t.budget_ms,
         ..HybridSettings::default()
     };
     if let Some(v) = t.near {

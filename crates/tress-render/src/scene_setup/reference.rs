@@ -293,6 +293,15 @@ pub(crate) fn hybrid() -> Vec<SettingDoc> {
             "`technique = \"auto\"`: a character whose bounding sphere is at most `auto_far_px` \
              pixels across is drawn as the volume, the hybrid's blend between",
         ),
+        doc(
+            "budget_ms",
+            d.budget_ms,
+            "`technique = \"auto\"`, several characters: GPU milliseconds a frame may take; \
+             nearest first, each character keeps its choice by size while it fits beside the \
+             cheapest the farther ones can be drawn, else takes the cheaper renderer that fits \
+             (strands before the volume), by costs measured on this device from the frames' \
+             GPU timestamps; absent: no budget",
+        ),
     ]
 }
 
@@ -334,7 +343,8 @@ mod tests {
         }
         for d in hybrid() {
             let Some(scene) = one_key("hybrid", &d) else {
-                assert_eq!(d.key, "lod");
+                // Absent by default (their meanings say what absence does).
+                assert!(["lod", "budget_ms"].contains(&d.key), "{}", d.key);
                 continue;
             };
             let s = hybrid_settings(&scene).unwrap();

@@ -52,6 +52,7 @@ impl Renderer {
             shadow,
             services,
             warned: Vec::new(),
+            costs: crate::hybrid::budget::CostModel::default(),
         };
         let slot0 = renderer.new_slot(ctx, 0, Some(params0))?;
         renderer.slots.push(slot0);
