@@ -128,7 +128,9 @@ pub(crate) fn satf() -> Vec<SettingDoc> {
             "fit.stray_split",
             f.stray_split,
             "split a group while some point of its shell lies farther from every strand than this \
-             share of the cross-section's larger half-axis (0: never)",
+             share of the cross-section's larger half-axis (0: never); a group under 8 strands is \
+             split, down to single strands, only where its shell lies over 20 minimum half-axes \
+             from every strand",
         ),
         doc(
             "fit.max_clusters",
