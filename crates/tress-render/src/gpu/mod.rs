@@ -13,6 +13,7 @@ pub use context::{
     ADAPTER_ENV, Capabilities, ContextOptions, GpuContext, MIN_STORAGE_BINDING_BYTES,
     MIN_STORAGE_BUFFERS_PER_STAGE, check_capabilities,
 };
+pub(crate) use readback::read_texture_bytes;
 pub use readback::{
     LinearImage, f16_to_f32, linear_to_srgb, read_buffer, read_texture, read_whole_buffer,
     srgb_to_linear,

@@ -148,15 +148,13 @@ fn texel_bytes(format: wgpu::TextureFormat) -> Option<u32> {
     }
 }
 
-/// Read a 2D color texture (`COPY_SRC` usage; formats Rgba8/Bgra8 (sRGB or not), Rgba16Float,
-/// Rgba32Float) into a linear image. Handles the 256-byte row alignment of copies.
-pub fn read_texture(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<LinearImage, RenderError> {
-    let format = texture.format();
-    let bpp = texel_bytes(format)
-        .ok_or_else(|| RenderError::Target(format!("cannot read back {format:?} textures")))?;
-    if !texture.usage().contains(wgpu::TextureUsages::COPY_SRC) {
-        return Err(RenderError::Target("texture lacks COPY_SRC usage".into()));
-    }
+/// A 2D texture's texels (`bpp` bytes each), rows top to bottom without the copy's row padding:
+/// what every readback of a whole texture needs (the texture must have `COPY_SRC`).
+pub(crate) fn read_texture_bytes(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    bpp: u32,
+) -> Result<Vec<u8>, RenderError> {
     let (width, height) = (texture.width(), texture.height());
     let row = width * bpp;
     let padded =
@@ -164,7 +162,7 @@ pub fn read_texture(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<LinearI
     let size = u64::from(padded) * u64::from(height);
     let buffer = ctx.scoped("texture readback", || {
         let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("frame/readback/color"),
+            label: Some("frame/readback/texture"),
             size,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
@@ -190,14 +188,29 @@ pub fn read_texture(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<LinearI
         buffer
     })?;
     let bytes = read_buffer(ctx, &buffer, 0..size)?;
-    let mut pixels = Vec::with_capacity((width * height) as usize);
+    let mut out = Vec::with_capacity((row * height) as usize);
     for y in 0..height {
         let start = (y * padded) as usize;
-        let line = &bytes[start..start + row as usize];
-        for t in line.chunks_exact(bpp as usize) {
-            pixels.push(decode_texel(format, t));
-        }
+        out.extend_from_slice(&bytes[start..start + row as usize]);
     }
+    Ok(out)
+}
+
+/// Read a 2D color texture (`COPY_SRC` usage; formats Rgba8/Bgra8 (sRGB or not), Rgba16Float,
+/// Rgba32Float) into a linear image. Handles the 256-byte row alignment of copies.
+pub fn read_texture(ctx: &GpuContext, texture: &wgpu::Texture) -> Result<LinearImage, RenderError> {
+    let format = texture.format();
+    let bpp = texel_bytes(format)
+        .ok_or_else(|| RenderError::Target(format!("cannot read back {format:?} textures")))?;
+    if !texture.usage().contains(wgpu::TextureUsages::COPY_SRC) {
+        return Err(RenderError::Target("texture lacks COPY_SRC usage".into()));
+    }
+    let (width, height) = (texture.width(), texture.height());
+    let bytes = read_texture_bytes(ctx, texture, bpp)?;
+    let pixels = bytes
+        .chunks_exact(bpp as usize)
+        .map(|t| decode_texel(format, t))
+        .collect();
     Ok(LinearImage {
         width,
         height,

@@ -11,7 +11,7 @@ use wgpu::util::DeviceExt;
 
 use crate::bind::{bind_group, bind_group_layout, storage, uniform};
 use crate::gpu::pipeline::{RasterPipeline, depth_test, pipeline_layout};
-use crate::gpu::read_buffer;
+use crate::gpu::read_texture_bytes;
 use crate::{Camera, DEPTH_FORMAT, GpuContext, RenderError, TriMesh, shaders};
 
 /// Bytes of one segment in the shader's storage buffer (two `vec4<f32>`).
@@ -357,9 +357,10 @@ impl MapRenderer {
             }
         }
         ctx.queue.submit([enc.finish()]);
-        let ids: Vec<i32> = bytemuck::pod_collect_to_vec(&read_raw(ctx, &id, 4)?);
-        let values: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&read_raw(ctx, &data, 16)?);
-        let heads = read_raw(ctx, &head, 1)?;
+        let ids: Vec<i32> = bytemuck::pod_collect_to_vec(&read_texture_bytes(ctx, &id, 4)?);
+        let values: Vec<[f32; 4]> =
+            bytemuck::pod_collect_to_vec(&read_texture_bytes(ctx, &data, 16)?);
+        let heads = read_texture_bytes(ctx, &head, 1)?;
         let depth = ids
             .iter()
             .zip(&values)
@@ -374,48 +375,4 @@ impl MapRenderer {
             head: heads.iter().map(|&h| h > 127).collect(),
         })
     }
-}
-
-/// The texels of a 2D texture (`COPY_SRC`) of `bpp` bytes each, rows packed (the copy's
-/// 256-byte row alignment removed).
-fn read_raw(ctx: &GpuContext, texture: &wgpu::Texture, bpp: u32) -> Result<Vec<u8>, RenderError> {
-    let (width, height) = (texture.width(), texture.height());
-    let row = width * bpp;
-    let padded =
-        row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-    let size = u64::from(padded) * u64::from(height);
-    let buffer = ctx.scoped("maps readback", || {
-        let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("maps/readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("maps/readback"),
-            });
-        enc.copy_texture_to_buffer(
-            texture.as_image_copy(),
-            wgpu::TexelCopyBufferInfo {
-                buffer: &buffer,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(padded),
-                    rows_per_image: Some(height),
-                },
-            },
-            texture.size(),
-        );
-        ctx.queue.submit([enc.finish()]);
-        buffer
-    })?;
-    let bytes = read_buffer(ctx, &buffer, 0..size)?;
-    let mut out = Vec::with_capacity((row * height) as usize);
-    for y in 0..height {
-        let start = (y * padded) as usize;
-        out.extend_from_slice(&bytes[start..start + row as usize]);
-    }
-    Ok(out)
 }
