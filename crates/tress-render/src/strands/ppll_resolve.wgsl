@@ -25,6 +25,10 @@ fn node_color(n: PpllNode) -> vec4<f32> {
     return vec4<f32>(unpack_rgb9e5(n.color), n.alpha);
 }
 
+fn kept_color(color: u32, alpha: f32) -> vec4<f32> {
+    return vec4<f32>(unpack_rgb9e5(color), alpha);
+}
+
 @fragment
 fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     let px = vec2<u32>(position.xy);
@@ -33,9 +37,12 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         discard;
     }
     let k = clamp(params.k, 1u, MAX_K);
-    // The k nearest so far, sorted by depth (nearest first): depth and node index.
+    // The k nearest so far, sorted by depth (nearest first): depth, packed colour and alpha,
+    // kept here so that neither an eviction nor the final blend reads a node again (each node
+    // is read from the pool once: a random access into hundreds of megabytes).
     var near_depth: array<f32, MAX_K>;
-    var near_node: array<u32, MAX_K>;
+    var near_color: array<u32, MAX_K>;
+    var near_alpha: array<f32, MAX_K>;
     var count = 0u;
     var tail = tail_empty();
     // Fragments merged into the tail (counted once per pixel into `ppll_counters.tail`).
@@ -47,8 +54,7 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         let n = ppll_load(index, params.nodes_per_chunk);
         node = n.next;
         steps = steps + 1u;
-        var insert = index;
-        var depth = n.depth;
+        let depth = n.depth;
         if count == k {
             merged = merged + 1u;
             if depth >= near_depth[k - 1u] {
@@ -57,7 +63,7 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
                 continue;
             }
             // Evict the farthest of the k into the tail.
-            let c = node_color(ppll_load(near_node[k - 1u], params.nodes_per_chunk));
+            let c = kept_color(near_color[k - 1u], near_alpha[k - 1u]);
             tail = tail_accumulate(tail, c.rgb, c.a);
             count = k - 1u;
         }
@@ -65,16 +71,18 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         var j = count;
         while j > 0u && near_depth[j - 1u] > depth {
             near_depth[j] = near_depth[j - 1u];
-            near_node[j] = near_node[j - 1u];
+            near_color[j] = near_color[j - 1u];
+            near_alpha[j] = near_alpha[j - 1u];
             j = j - 1u;
         }
         near_depth[j] = depth;
-        near_node[j] = insert;
+        near_color[j] = n.color;
+        near_alpha[j] = n.alpha;
         count = count + 1u;
     }
     var acc = vec4<f32>(0.0);
     for (var i = 0u; i < count; i = i + 1u) {
-        let c = node_color(ppll_load(near_node[i], params.nodes_per_chunk));
+        let c = kept_color(near_color[i], near_alpha[i]);
         acc = blend_front_to_back(acc, c.rgb, c.a);
     }
     acc = blend_under(acc, tail_resolve(tail));

@@ -26,26 +26,40 @@ struct PpllCounters {
 @group(3) @binding(4) var<storage, read_write> ppll_nodes_2: array<PpllNode>;
 @group(3) @binding(5) var<storage, read_write> ppll_nodes_3: array<PpllNode>;
 
-// Write node `index` (< the pool's capacity) of a pool with `per_chunk` nodes a binding.
+// Write node `index` (< the pool's capacity) of a pool with `per_chunk` nodes a binding. The
+// chunk is found by comparisons, not `index / per_chunk`: an integer division per node is a
+// measurable share of a pass that does little else per fragment on a CPU Vulkan.
 fn ppll_store(index: u32, per_chunk: u32, node: PpllNode) {
-    let chunk = index / per_chunk;
-    let i = index - chunk * per_chunk;
-    switch chunk {
-        case 0u: { ppll_nodes_0[i] = node; }
-        case 1u: { ppll_nodes_1[i] = node; }
-        case 2u: { ppll_nodes_2[i] = node; }
-        default: { ppll_nodes_3[i] = node; }
+    if index < per_chunk {
+        ppll_nodes_0[index] = node;
+        return;
     }
+    let i1 = index - per_chunk;
+    if i1 < per_chunk {
+        ppll_nodes_1[i1] = node;
+        return;
+    }
+    let i2 = i1 - per_chunk;
+    if i2 < per_chunk {
+        ppll_nodes_2[i2] = node;
+        return;
+    }
+    ppll_nodes_3[i2 - per_chunk] = node;
 }
 
-// Read node `index` (< the pool's capacity) of a pool with `per_chunk` nodes a binding.
+// Read node `index` (< the pool's capacity) of a pool with `per_chunk` nodes a binding (chunk by
+// comparisons, as `ppll_store`).
 fn ppll_load(index: u32, per_chunk: u32) -> PpllNode {
-    let chunk = index / per_chunk;
-    let i = index - chunk * per_chunk;
-    switch chunk {
-        case 0u: { return ppll_nodes_0[i]; }
-        case 1u: { return ppll_nodes_1[i]; }
-        case 2u: { return ppll_nodes_2[i]; }
-        default: { return ppll_nodes_3[i]; }
+    if index < per_chunk {
+        return ppll_nodes_0[index];
     }
+    let i1 = index - per_chunk;
+    if i1 < per_chunk {
+        return ppll_nodes_1[i1];
+    }
+    let i2 = i1 - per_chunk;
+    if i2 < per_chunk {
+        return ppll_nodes_2[i2];
+    }
+    return ppll_nodes_3[i2 - per_chunk];
 }
