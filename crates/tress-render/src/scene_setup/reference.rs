@@ -117,7 +117,9 @@ pub(crate) fn volume() -> Vec<SettingDoc> {
             "size each voxelized character's grid by its size on screen: `voxels_per_px` voxels \
              a pixel across its bounding sphere, up to the next of 32, 48, 64, 96, 128, 192, 256, \
              384, 512, 768, 1024 and clamped to `min_resolution..=resolution` (a far character \
-             costs kilobytes); `false`: every character at `resolution`, the paper's fixed grid",
+             costs kilobytes; a character with ambient occlusion on, `volume.ao` or `strands.ao`, \
+             keeps `resolution`: the AO radius is in world units); `false`: every character at \
+             `resolution`, the paper's fixed grid",
         ),
         doc(
             "voxels_per_px",

@@ -258,7 +258,8 @@ pub struct VolumeSettings {
     /// pixel across its bounding sphere, up to the next of [`RESOLUTION_STEPS`] and clamped to
     /// `min_resolution..=resolution` ([`VolumeSettings::object_resolution`]), so a far
     /// character costs kilobytes, not a full `resolution³` (default on; off: every character
-    /// at `resolution`, the paper's fixed grid).
+    /// at `resolution`, the paper's fixed grid). A character whose volume gives ambient
+    /// occlusion (`ao`, or the strands' `ao`) keeps `resolution` (the renderer decides).
     pub screen_resolution: bool,
     /// The fewest voxels per axis a character's grid gets under `screen_resolution` (at most
     /// `resolution` is used).
