@@ -237,6 +237,11 @@ fn volume_hybrid_and_auto_draw_every_characters_simulated_hair() {
     );
     let mut still = two_characters(&ctx, &moved);
     let mut at_rest = two_characters(&ctx, &rest);
+    // The fixed grid: sized by the screen, the simulated hair's grid (its bounds allow for its
+    // reach, so it looks larger) would get another resolution than the still hair's.
+    for session in [&mut s, &mut still, &mut at_rest] {
+        session.set(&ctx, "volume.screen_resolution=false").unwrap();
+    }
     let frame = |session: &mut Session, technique: &str| {
         session.set_technique(&ctx, technique).unwrap();
         session
