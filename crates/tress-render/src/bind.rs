@@ -4,7 +4,7 @@
 //! | group | layout | contents |
 //! | --- | --- | --- |
 //! | 0 | `view` | camera uniform, strand params uniform |
-//! | 1 | `lighting` | lights, material, one shadow map per light, the hair volume (texture, sampler, grid, params: volume shadows and AO) |
+//! | 1 | `lighting` | lights, material, one shadow map per light, the hair volume (texture, sampler, grid, params, baked AO texture: volume shadows and AO) |
 //! | 2 | `strands` | strand vertices and segments (vertex pulling; the voxelizer's compute passes) |
 //! | 3 | pass-specific | e.g. the PPLL buffers of the build pass |
 
@@ -191,13 +191,15 @@ impl Layouts {
         entries.extend(
             (0..MAX_LIGHTS as u32).map(|i| depth_texture(2 + i, wgpu::ShaderStages::FRAGMENT)),
         );
-        // The hair volume (`common/lighting.wgsl`): texture, sampler, grid, volume params.
+        // The hair volume (`common/lighting.wgsl`): texture, sampler, grid, volume params, baked
+        // ambient occlusion.
         let v = 2 + MAX_LIGHTS as u32;
         entries.extend([
             texture_3d(v, wgpu::ShaderStages::FRAGMENT),
             filtering_sampler(v + 1, wgpu::ShaderStages::FRAGMENT),
             uniform(v + 2, VF),
             uniform(v + 3, VF),
+            texture_3d(v + 4, wgpu::ShaderStages::FRAGMENT),
         ]);
         let lighting = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("frame/lighting/layout"),

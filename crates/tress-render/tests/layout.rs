@@ -250,6 +250,7 @@ fn volume_types_match_wgsl() {
                 optical_width,
                 highlights,
                 highlight_exponent,
+                ao_texel,
                 view_eye,
                 view_orthographic,
                 view_forward,

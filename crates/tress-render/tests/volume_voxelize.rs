@@ -567,3 +567,112 @@ fn the_highlights_integrate_the_strands_lobes_as_the_cpu_reference_does() {
     assert!(off.highlight_texels.iter().all(|h| *h == [0; 4]));
     assert_eq!(off.counts, gpu.counts);
 }
+
+/// The baked ambient occlusion (`volume.ao_texel`) against the CPU's `volume_ao` at each texel's
+/// centre on the read-back density, and its footprint against the trilinear filter: every texel a
+/// point on a strand can read is baked, and the texels no point reaches are skipped (1). At a
+/// texel a voxel (the default) and every other voxel.
+#[test]
+fn the_baked_ao_holds_the_local_ao_wherever_a_strand_can_read_it() {
+    if common::gpu().is_none() {
+        return;
+    }
+    for texel in [1, 2] {
+        check_baked_ao(texel);
+    }
+}
+
+fn check_baked_ao(texel: u32) {
+    use glam::IVec3;
+    use tress_render::volume::{OCCUPANCY_BLOCK, ao_resolution};
+    use tress_shading::volume::{
+        DensityVolume, NO_CAP, ao_texel_centre, ao_texel_reached, volume_ao,
+    };
+    let s = VolumeSettings {
+        ao: true,
+        ao_texel: texel,
+        ao_radius: 0.3,
+        occlusion: tress_render::volume::Occlusion::Strands,
+        strand_width: 0.05,
+        ..settings(VoxelizeMode::Segments)
+    };
+    let (gpu, _, _) = run(&asset(), &s);
+    let res = gpu.grid.res;
+    let ao_res = ao_resolution(res, texel);
+    assert_eq!(gpu.ao_texels.len(), (ao_res as usize).pow(3));
+    let density: Vec<f32> = gpu.texels.iter().map(|t| t[3]).collect();
+    let vol = DensityVolume::new(res, &density).expect("density");
+    let occ_res = res.div_ceil(OCCUPANCY_BLOCK);
+    let occupied = |b: UVec3| gpu.occupancy[(b.x + occ_res * (b.y + occ_res * b.z)) as usize] != 0;
+    let reached = |t: UVec3| ao_texel_reached(t, texel, occ_res, OCCUPANCY_BLOCK, occupied);
+    let scale = gpu.grid.scale;
+    let index = |t: UVec3| (t.x + ao_res * (t.y + ao_res * t.z)) as usize;
+    let (mut baked, mut occluded, mut worst) = (0, 0, 0i32);
+    for z in 0..ao_res {
+        for y in 0..ao_res {
+            for x in 0..ao_res {
+                let t = UVec3::new(x, y, z);
+                let expected = if reached(t) {
+                    baked += 1;
+                    volume_ao(
+                        &vol,
+                        ao_texel_centre(t, texel),
+                        s.ao_radius * scale,
+                        s.ao_samples,
+                        s.ao_intensity * s.strand_width * scale,
+                        s.shadow_alpha,
+                        NO_CAP,
+                    )
+                } else {
+                    1.0
+                };
+                let want = (expected * 255.0).round() as i32;
+                let got = i32::from(gpu.ao_texels[index(t)]);
+                occluded += usize::from(got < 250);
+                worst = worst.max((got - want).abs());
+            }
+        }
+    }
+    assert!(
+        worst <= 1,
+        "texel {texel}: a baked texel is {worst} levels from the CPU's AO"
+    );
+    let total = (ao_res as usize).pow(3);
+    assert!(
+        baked > 0 && baked < total,
+        "texel {texel}: {baked} of {total} texels baked"
+    );
+    assert!(
+        occluded > 100,
+        "texel {texel}: only {occluded} texels are occluded"
+    );
+    // The footprint from the filter's side: a point on a strand lies within a voxel of a counted
+    // voxel; a point at voxel position `x` reads texels `floor(x / texel - 1/2)` and the next,
+    // so the points of voxels `lo ..= hi` read those from `lo`'s first to `hi + 0.999`'s second.
+    // Each of them was baked.
+    let r = res as i32;
+    let last = IVec3::splat(ao_res as i32 - 1);
+    let first = |v: IVec3, frac: f32| {
+        let t = (v.as_vec3() + glam::Vec3::splat(frac)) / texel as f32 - glam::Vec3::splat(0.5);
+        t.floor().as_ivec3().clamp(IVec3::ZERO, last)
+    };
+    for (i, &c) in gpu.counts.iter().enumerate() {
+        if c == 0 {
+            continue;
+        }
+        let v = IVec3::new(i as i32 % r, (i as i32 / r) % r, i as i32 / (r * r));
+        let t0 = first((v - 1).max(IVec3::ZERO), 0.0);
+        let t1 = (first((v + 1).min(IVec3::splat(r - 1)), 0.999) + 1).min(last);
+        for z in t0.z..=t1.z {
+            for y in t0.y..=t1.y {
+                for x in t0.x..=t1.x {
+                    let t = IVec3::new(x, y, z).as_uvec3();
+                    assert!(
+                        reached(t),
+                        "texel {texel}: AO texel {t} is read near counted voxel {v} but not baked"
+                    );
+                }
+            }
+        }
+    }
+}

@@ -49,6 +49,7 @@ fn entry_modules_have_their_entry_points() {
         ("volume/volume_bounds.wgsl", &["clear", "reduce", "fit"]),
         ("volume/voxelize.wgsl", &["voxelize"]),
         ("volume/volume_resolve.wgsl", &["resolve"]),
+        ("volume/ao_bake.wgsl", &["bake"]),
         ("volume/raymarch.wgsl", &["vs_main", "fs_main"]),
         ("hybrid/lod_blend.wgsl", &["vs_main", "fs_main"]),
         ("patches/z_prime.wgsl", &["vs_main", "fs_main"]),

@@ -33,7 +33,7 @@
 //! - **Level of detail (§3, §4).** [`lod_factor`] is `smoothstep(near, far, distance)`; the
 //!   dithered transition compares it with [`dither_threshold`], a 4 × 4 Bayer matrix.
 
-use glam::{UVec2, Vec3};
+use glam::{IVec3, UVec2, UVec3, Vec3};
 
 use crate::{smoothstep, strand_visibility};
 
@@ -280,6 +280,38 @@ pub fn volume_ao(
     }
     let mean = sum / n as f32;
     strand_visibility(intensity * mean * radius, alpha)
+}
+
+/// The voxel position of the centre of texel `t` of the ambient-occlusion texture baked at
+/// `texel` voxels a texel (`volume.ao_texel`; the texture spans the grid, texel centres at
+/// `texel · (t + 1/2)`): the bake stores [`volume_ao`] there, and a shaded point at voxel
+/// position `x` reads the texture trilinearly at `x / texel` texels.
+pub fn ao_texel_centre(t: UVec3, texel: u32) -> Vec3 {
+    (t.as_vec3() + Vec3::splat(0.5)) * texel as f32
+}
+
+/// Whether the bake evaluates AO texel `t` of `texel` voxels (`texel_reached` in
+/// `volume/ao_bake.wgsl`): a point at voxel position `x` reads the texels whose centres lie
+/// within `texel` of it, so points in voxels `texel · t - ⌈texel/2⌉ ..= texel · t + ⌈3 texel/2⌉
+/// - 1`; it is evaluated when one of those voxels lies in an occupied block (`occupied(block)`,
+/// `block` below `occupancy_res` per axis, blocks of `block_edge` voxels). The rest hold 1: no
+/// shaded point reads them.
+pub fn ao_texel_reached(
+    t: UVec3,
+    texel: u32,
+    occupancy_res: u32,
+    block_edge: u32,
+    occupied: impl Fn(UVec3) -> bool,
+) -> bool {
+    let last = IVec3::splat(occupancy_res as i32 - 1);
+    let first = (t * texel).as_ivec3();
+    let (before, after) = (texel.div_ceil(2) as i32, (3 * texel).div_ceil(2) as i32 - 1);
+    let e = block_edge as i32;
+    let b0 = ((first - IVec3::splat(before)) / e).clamp(IVec3::ZERO, last);
+    let b1 = ((first + IVec3::splat(after)) / e).clamp(IVec3::ZERO, last);
+    (b0.z..=b1.z).any(|z| {
+        (b0.y..=b1.y).any(|y| (b0.x..=b1.x).any(|x| occupied(IVec3::new(x, y, z).as_uvec3())))
+    })
 }
 
 /// Central-difference gradient of the density at `x` (one voxel either side).

@@ -460,6 +460,11 @@ pub struct VolumeParams {
     pub highlights: u32,
     /// Kajiya-Kay's specular exponent of the integrated highlights.
     pub highlight_exponent: f32,
+    /// Voxels a texel of the ambient-occlusion texture baked after each voxelization
+    /// (`volume.ao_texel`); 0: local AO is evaluated at every shaded point.
+    pub ao_texel: u32,
+    /// Padding.
+    pub _pad_ao: [u32; 3],
     /// The frame's eye (perspective), for the highlights.
     pub view_eye: [f32; 3],
     /// 1: orthographic (the view direction is `view_forward` everywhere).

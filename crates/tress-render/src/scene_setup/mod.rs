@@ -321,6 +321,7 @@ struct VolumeTable {
     ao_radius: Option<f32>,
     ao_samples: Option<u32>,
     ao_intensity: Option<f32>,
+    ao_texel: Option<u32>,
     budget_mib: Option<u32>,
 }
 
@@ -351,6 +352,7 @@ pub fn volume_settings(scene: &Scene) -> Result<VolumeSettings, RenderError> {
         ao_radius,
         ao_samples,
         ao_intensity,
+        ao_texel,
         budget_mib
     );
     if let Some(name) = &t.voxelize {

@@ -244,6 +244,15 @@ pub(crate) fn volume() -> Vec<SettingDoc> {
         doc("ao_samples", d.ao_samples, "local AO: samples"),
         doc("ao_intensity", d.ao_intensity, "local AO: strength"),
         doc(
+            "ao_texel",
+            d.ao_texel,
+            "voxels a texel of the local AO texture baked after each voxelization while `ao` or \
+             `strands.ao` reads it: every shaded point then reads AO with one filtered lookup \
+             instead of `ao_samples` density samples. 1 bakes every voxel (4 bytes a voxel), 2 \
+             every other one (an eighth of the bake and its memory, coarser AO), 0 evaluates the \
+             samples at every shaded point (the paper's)",
+        ),
+        doc(
             "budget_mib",
             d.budget_mib,
             "GPU memory the volumes of a frame may take: the shared counters and each \

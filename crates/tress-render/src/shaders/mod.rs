@@ -136,6 +136,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../volume/volume_resolve.wgsl"),
     ),
     (
+        "volume/ao_bake.wgsl",
+        include_str!("../volume/ao_bake.wgsl"),
+    ),
+    (
         "volume/raymarch.wgsl",
         include_str!("../volume/raymarch.wgsl"),
     ),
@@ -180,6 +184,7 @@ pub const ENTRY_MODULES: &[&str] = &[
     "volume/volume_bounds.wgsl",
     "volume/voxelize.wgsl",
     "volume/volume_resolve.wgsl",
+    "volume/ao_bake.wgsl",
     "volume/raymarch.wgsl",
     "hybrid/lod_blend.wgsl",
     "patches/z_prime.wgsl",

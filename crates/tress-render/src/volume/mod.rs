@@ -154,6 +154,7 @@ macro_rules! named_setting {
     };
 }
 
+mod ao_bake;
 mod highlights;
 mod occlusion;
 mod opacity;
@@ -166,6 +167,7 @@ mod voxelizer;
 use std::fmt;
 use std::str::FromStr;
 
+pub use ao_bake::{AO_FORMAT, AoBake, ao_resolution};
 pub use highlights::Highlights;
 pub use occlusion::Occlusion;
 pub use opacity::Opacity;
@@ -179,6 +181,9 @@ pub use voxelizer::{VolumeReadback, Voxelizer};
 
 use crate::gpu::types::{VolumeGrid, VolumeParams};
 use crate::{GpuContext, RenderError};
+
+/// The largest `volume.ao_texel`.
+pub const MAX_AO_TEXEL: u32 = 8;
 
 /// Edge of an occupancy block in voxels (`OCCUPANCY_BLOCK` in `common/volume.wgsl`).
 pub const OCCUPANCY_BLOCK: u32 = 8;
@@ -317,6 +322,12 @@ pub struct VolumeSettings {
     pub ao_samples: u32,
     /// Multiplier of the occluding strand count (the paper's tweak towards a ray tracer).
     pub ao_intensity: f32,
+    /// Voxels per axis of a texel of the ambient-occlusion texture baked after each
+    /// voxelization while something reads AO (`ao` or `strands.ao`): every shaded point then
+    /// reads local AO with one filtered lookup instead of `ao_samples` trilinear density
+    /// samples. 1 (the default) bakes every voxel, 2 every other one (an eighth of the bake and
+    /// its memory, coarser AO), 0 evaluates the samples at every shaded point (the paper's).
+    pub ao_texel: u32,
     /// GPU memory the volumes of one frame may take, MiB: the shared voxel counters and every
     /// head of hair's own volume (textures and occupancy, about 8 bytes a voxel). A head of hair
     /// whose volume would not fit is drawn as strands instead, with a warning (default 4096:
@@ -350,6 +361,7 @@ impl Default for VolumeSettings {
             ao_radius: 1.0,
             ao_samples: 16,
             ao_intensity: 1.0,
+            ao_texel: 1,
             budget_mib: 4096,
         }
     }
@@ -412,6 +424,9 @@ impl VolumeSettings {
         if !(self.ao_intensity >= 0.0 && self.ao_intensity.is_finite()) {
             return bad("ao_intensity", "must be finite and non-negative");
         }
+        if self.ao_texel > MAX_AO_TEXEL {
+            return bad("ao_texel", "must be in 0..=8");
+        }
         if self.budget_mib == 0 {
             return bad("budget_mib", "must be positive");
         }
@@ -450,11 +465,21 @@ impl VolumeSettings {
     }
 
     /// Bytes of what the frame keeps after the voxelization: the two textures (tangent and
-    /// density, highlights: 8 bytes a voxel) and the occupancy blocks.
+    /// density, highlights: 8 bytes a voxel) and the occupancy blocks; [`VolumeSettings::ao_bytes`]
+    /// more while something reads the baked AO.
     pub fn resident_bytes(&self) -> u64 {
         let voxels = u64::from(self.resolution).pow(3);
         let blocks = u64::from(self.resolution.div_ceil(OCCUPANCY_BLOCK)).pow(3);
         voxels * 8 + blocks * 4
+    }
+
+    /// Bytes of the baked ambient-occlusion texture (4 a texel of `ao_texel³` voxels) of a
+    /// volume whose AO is read (`reads_ao`); 0 when nothing reads it or `ao_texel` is 0.
+    pub fn ao_bytes(&self, reads_ao: bool) -> u64 {
+        match (reads_ao, self.ao_texel) {
+            (false, _) | (_, 0) => 0,
+            (true, t) => u64::from(ao_resolution(self.resolution, t)).pow(3) * 4,
+        }
     }
 
     /// Bytes of the voxelization's scratch: the count, the two tangent-sum words and the two
@@ -464,10 +489,12 @@ impl VolumeSettings {
     }
 }
 
-/// The volume resources bound in the lighting group (`common/lighting.wgsl` bindings 6 to 9).
+/// The volume resources bound in the lighting group (`common/lighting.wgsl` bindings 6 to 10).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct VolumeBinding<'a> {
     pub(crate) view: &'a wgpu::TextureView,
+    /// The baked ambient occlusion (`volume.ao_baked`).
+    pub(crate) ao_view: &'a wgpu::TextureView,
     pub(crate) sampler: &'a wgpu::Sampler,
     pub(crate) grid: &'a wgpu::Buffer,
     pub(crate) params: &'a wgpu::Buffer,

@@ -102,6 +102,13 @@ impl Renderer {
             .as_ref()
             .and_then(|v| Some((v.object_view(index)?, v.grid_uniform(index)?)));
         let (view, grid) = own.unwrap_or((&self.fallback_volume.0, &self.fallback_volume.1));
+        // Without a baked AO texture (nothing reads AO, or `volume.ao_texel = 0`) the empty
+        // volume's texture stands in for it: it is never read.
+        let ao_view = self
+            .voxelizer
+            .as_ref()
+            .and_then(|v| v.ao_view(index))
+            .unwrap_or(&self.fallback_volume.0);
         Self::lighting_group(
             ctx,
             &self.layouts,
@@ -110,6 +117,7 @@ impl Renderer {
             &self.shadow,
             VolumeBinding {
                 view,
+                ao_view,
                 sampler: &self.volume_sampler,
                 grid,
                 params: volume_params,
@@ -179,6 +187,18 @@ impl Renderer {
         }
     }
 
+    /// The baked AO of object `d`'s volume at `resolution`: voxels a texel (0: none, when
+    /// nothing reads its AO or `volume.ao_texel` is 0) and its bytes.
+    fn ao_settings(&self, resolution: u32, d: &Drawn<'_>) -> (u32, u64) {
+        let reads_ao = self.volume_settings.ao || d.plan.raster_ao;
+        let s = VolumeSettings {
+            resolution,
+            ..self.volume_settings.clone()
+        };
+        let texel = if reads_ao { s.ao_texel } else { 0 };
+        (texel, s.ao_bytes(reads_ao))
+    }
+
     /// Give every head of hair that voxelizes a volume within `volume.budget_mib`, in order, at
     /// its resolution on screen; one that does not fit is drawn as strands instead (warned once
     /// until it fits again). Volumes of heads of hair that no longer voxelize are freed.
@@ -212,7 +232,8 @@ impl Renderer {
             if !d.plan.voxelize {
                 continue;
             }
-            let per_object = at(resolutions[i]).resident_bytes();
+            let per_object =
+                at(resolutions[i]).resident_bytes() + self.ao_settings(resolutions[i], d).1;
             if used + per_object > budget {
                 if !self.warned.get(i).copied().unwrap_or(false) {
                     tracing::warn!(
@@ -242,6 +263,11 @@ impl Renderer {
             }
         }
         let wants: Vec<bool> = drawn.iter().map(|d| d.plan.voxelize).collect();
+        let ao_texels: Vec<u32> = drawn
+            .iter()
+            .zip(&resolutions)
+            .map(|(d, &r)| self.ao_settings(r, d).0)
+            .collect();
         if wants.iter().any(|&w| w) && self.voxelizer.is_none() {
             self.voxelizer = Some(Voxelizer::with_params(
                 ctx,
@@ -253,7 +279,8 @@ impl Renderer {
         if let Some(v) = &mut self.voxelizer {
             for (i, slot) in self.slots.iter().enumerate() {
                 if wants.get(i).copied().unwrap_or(false) {
-                    v.ensure_grid(ctx, i, &slot.volume_params, resolutions[i])?;
+                    let ao_texel = ao_texels[i];
+                    v.ensure_grid(ctx, i, &slot.volume_params, resolutions[i], ao_texel)?;
                 } else {
                     v.release_grid(i);
                 }

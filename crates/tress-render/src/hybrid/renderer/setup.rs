@@ -101,6 +101,10 @@ impl Renderer {
                 binding: v + 3,
                 resource: volume.params.as_entire_binding(),
             },
+            wgpu::BindGroupEntry {
+                binding: v + 4,
+                resource: wgpu::BindingResource::TextureView(volume.ao_view),
+            },
         ]);
         ctx.scoped("creating the lighting bind group", || {
             ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {

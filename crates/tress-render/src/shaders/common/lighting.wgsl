@@ -33,6 +33,11 @@ struct Material {
 @group(1) @binding(7) var volume_sampler: sampler;
 @group(1) @binding(8) var<uniform> volume_grid: VolumeGrid;
 @group(1) @binding(9) var<uniform> volume_params: VolumeParams;
+// Local ambient occlusion baked after the voxelization (`volume.ao_texel`): r the visibility at
+// each texel's centre, `ao_texel` voxels a texel; 1 where no strand is near (the empty volume's
+// texture when the object has none: then `ao_texel` is 0 or the grid unoccupied, and it is never
+// read).
+@group(1) @binding(10) var volume_ao_texture: texture_3d<f32>;
 
 // The most strands `strands_from_visibility` reports (fully shadowed; mirrored by
 // `tress_shading::MAX_SHADOW_STRANDS`).
@@ -73,32 +78,30 @@ fn volume_light_visibility(i: u32, p: vec3<f32>) -> f32 {
     return strand_visibility(n * volume_hit_fraction(), volume_params.shadow_alpha);
 }
 
-// The most a voxel counts in shadows and AO: every strand (OCCLUSION_STRANDS), or one (ADSM:
-// the march measures the path's length inside the hair).
+// The most a voxel counts in shadows and AO (`occlusion_cap` of this object's settings).
 fn volume_occlusion_cap() -> f32 {
-    return select(NO_CAP, 1.0, volume_params.occlusion == OCCLUSION_ADSM);
+    return occlusion_cap(volume_params);
 }
 
-// What turns the march's count into strands in the way: the share of the strands crossing a
-// voxel that a ray through it meets (strand width over voxel size), or ADSM's r per voxel of
-// path inside the hair (r times the voxel size).
+// What turns the march's count into strands in the way (`occlusion_hit_fraction` on this
+// object's grid).
 fn volume_hit_fraction() -> f32 {
-    if volume_params.occlusion == OCCLUSION_ADSM {
-        return volume_params.occlusion_r / volume_grid.scale;
-    }
-    return volume_params.strand_width * volume_grid.scale;
+    return occlusion_hit_fraction(volume_params, volume_grid.scale);
 }
 
-// Local ambient occlusion (§3.4) of world point `p` from the density around it.
+// Local ambient occlusion (§3.4) of world point `p` from the density around it: one filtered
+// lookup of the texture baked after the voxelization (`volume.ao_texel` voxels a texel, the
+// default: its texels hold `local_ao` at their centres), or `local_ao` at `p` itself (0).
 fn volume_ambient_occlusion(p: vec3<f32>) -> f32 {
     if volume_grid.occupied == 0u {
         return 1.0;
     }
-    return volume_ao(
-        volume_texture, volume_sampler, volume_texels(volume_grid), voxel_from_world(volume_grid, p),
-        volume_params.ao_radius * volume_grid.scale, volume_params.ao_samples,
-        volume_params.ao_intensity * volume_hit_fraction(), volume_params.shadow_alpha,
-        volume_occlusion_cap());
+    let x = voxel_from_world(volume_grid, p);
+    if volume_params.ao_texel != 0u {
+        let span = vec3<f32>(textureDimensions(volume_ao_texture)) * f32(volume_params.ao_texel);
+        return textureSampleLevel(volume_ao_texture, volume_sampler, x / span, 0.0).r;
+    }
+    return local_ao(volume_texture, volume_sampler, volume_grid, volume_params, x);
 }
 
 // Shadow visibility of world point `p` from light `i` (1: lit): the volume shadow when

@@ -117,6 +117,10 @@ struct VolumeParams {
     // tress_shading::highlights); their exponent.
     highlights: u32,
     highlight_exponent: f32,
+    // Voxels a texel of the ambient-occlusion texture baked after each voxelization, which the
+    // strands and the raymarcher read local AO from (`volume.ao_texel`); 0: they evaluate it at
+    // every shaded point.
+    ao_texel: u32,
     // The frame's eye (perspective) or view direction (orthographic) and the lights' unit
     // directions, for the highlights.
     view_eye: vec3<f32>,
@@ -390,6 +394,32 @@ fn volume_ao(
     }
     let mean = sum / f32(n);
     return strand_visibility(intensity * mean * radius, alpha);
+}
+
+// The most a voxel counts in shadows and AO under `params.occlusion`: every strand
+// (OCCLUSION_STRANDS), or one (ADSM: the march measures the path's length inside the hair).
+fn occlusion_cap(params: VolumeParams) -> f32 {
+    return select(NO_CAP, 1.0, params.occlusion == OCCLUSION_ADSM);
+}
+
+// What turns a march's count into strands in the way, on a grid of `scale` voxels per world unit:
+// the share of the strands crossing a voxel that a ray through it meets (strand width over voxel
+// size), or ADSM's r per voxel of path inside the hair (r times the voxel size).
+fn occlusion_hit_fraction(params: VolumeParams, scale: f32) -> f32 {
+    if params.occlusion == OCCLUSION_ADSM {
+        return params.occlusion_r / scale;
+    }
+    return params.strand_width * scale;
+}
+
+// Local ambient occlusion (§3.4) at voxel position `x` of `grid` with the settings of `params`
+// (the ball's radius in world units): the one definition the baked texture and the per-point
+// evaluation share.
+fn local_ao(tex: texture_3d<f32>, samp: sampler, grid: VolumeGrid, params: VolumeParams, x: vec3<f32>) -> f32 {
+    return volume_ao(
+        tex, samp, volume_texels(grid), x, params.ao_radius * grid.scale, params.ao_samples,
+        params.ao_intensity * occlusion_hit_fraction(params, grid.scale), params.shadow_alpha,
+        occlusion_cap(params));
 }
 
 fn density_gradient(tex: texture_3d<f32>, samp: sampler, vt: VolumeTexels, x: vec3<f32>) -> vec3<f32> {

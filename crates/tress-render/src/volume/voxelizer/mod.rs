@@ -9,7 +9,8 @@ use crate::gpu::types::{ResolveArgs, VolumeGrid, VolumeParams, VoxelStats};
 use crate::strands::StrandGeometry;
 use crate::volume::volume_resolve::VOLUME_FORMAT;
 use crate::volume::{
-    OCCUPANCY_BLOCK, VolumeBounds, VolumeResolve, VolumeSettings, VolumeStats, Voxelize,
+    AO_FORMAT, AoBake, OCCUPANCY_BLOCK, VolumeBounds, VolumeResolve, VolumeSettings, VolumeStats,
+    Voxelize, ao_resolution,
 };
 use crate::{GpuContext, RenderError};
 use tress_shading::highlights::{HIGHLIGHT_LIGHTS, HighlightView};
@@ -29,8 +30,9 @@ struct Scratch {
 }
 
 /// One object's volume: what stays after its voxelization (the two `rgba8unorm` textures, 8
-/// bytes a voxel, and the occupancy blocks), its fitted grid, and the bind groups of its three
-/// passes over its own settings uniform and the shared [`Scratch`].
+/// bytes a voxel, the baked ambient occlusion, half a byte a voxel, and the occupancy blocks), its
+/// fitted grid, and the bind groups of its passes over its own settings uniform and the shared
+/// [`Scratch`].
 #[derive(Debug)]
 struct Grid {
     keys: wgpu::Buffer,
@@ -43,6 +45,8 @@ struct Grid {
     view: wgpu::TextureView,
     highlight_texture: wgpu::Texture,
     highlight_view: wgpu::TextureView,
+    /// The baked ambient occlusion, while something reads it.
+    ao: Option<BakedAo>,
     bounds_group: wgpu::BindGroup,
     voxelize_group: wgpu::BindGroup,
     resolve_group: wgpu::BindGroup,
@@ -53,6 +57,25 @@ struct Grid {
     /// Unique among the voxelizer's grids: a bind group showing this grid is current while the
     /// object's serial is the one it was built with.
     serial: u64,
+}
+
+/// An object's baked ambient-occlusion texture (`volume.ao_texel`) and its bake's bind group.
+#[derive(Debug)]
+struct BakedAo {
+    texture: wgpu::Texture,
+    view: wgpu::TextureView,
+    group: wgpu::BindGroup,
+    /// Voxels a texel.
+    texel: u32,
+    /// Texels per axis.
+    res: u32,
+}
+
+impl Grid {
+    /// Voxels a texel of its baked AO (0: it has none).
+    fn ao_texel(&self) -> u32 {
+        self.ao.as_ref().map_or(0, |a| a.texel)
+    }
 }
 
 /// The strand voxelizer (§3.3): owns the counters, the volume textures and the three compute
@@ -71,6 +94,9 @@ pub struct Voxelizer {
     bounds: VolumeBounds,
     voxelize: Voxelize,
     resolve: VolumeResolve,
+    ao_bake: AoBake,
+    /// The bake's density sampler (unused by its manual filter, bound for the shared signature).
+    sampler: wgpu::Sampler,
     /// The resolution of the standalone API (and the renderer's `volume.resolution`).
     res: u32,
     scratch: Scratch,
@@ -111,6 +137,33 @@ fn buffer(ctx: &GpuContext, label: &str, size: u64, usage: wgpu::BufferUsages) -
     })
 }
 
+/// A `res³` 3D texture of `format` the volume's passes write and its shading samples.
+fn texture_3d(
+    ctx: &GpuContext,
+    label: &str,
+    res: u32,
+    format: wgpu::TextureFormat,
+) -> (wgpu::Texture, wgpu::TextureView) {
+    let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: res,
+            height: res,
+            depth_or_array_layers: res,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D3,
+        format,
+        usage: wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+    (texture, view)
+}
+
 impl Voxelizer {
     /// A voxelizer of `resolution³` with its own settings uniform (write it with
     /// [`Voxelizer::voxelize`]).
@@ -128,7 +181,7 @@ impl Voxelizer {
             (resolution, resolution),
             &params,
         )?;
-        voxelizer.ensure_grid(ctx, 0, &params, resolution)?;
+        voxelizer.ensure_grid(ctx, 0, &params, resolution, 0)?;
         Ok(voxelizer)
     }
 
@@ -148,6 +201,15 @@ impl Voxelizer {
             bounds: VolumeBounds::new(ctx, layouts)?,
             voxelize: Voxelize::new(ctx, layouts)?,
             resolve: VolumeResolve::new(ctx)?,
+            ao_bake: AoBake::new(ctx)?,
+            sampler: ctx.scoped("creating the AO bake's sampler", || {
+                ctx.device.create_sampler(&wgpu::SamplerDescriptor {
+                    label: Some("volume/ao_bake/sampler"),
+                    mag_filter: wgpu::FilterMode::Linear,
+                    min_filter: wgpu::FilterMode::Linear,
+                    ..Default::default()
+                })
+            })?,
             res: resolution,
             scratch: Self::allocate_scratch(ctx, scratch_res)?,
             scratch_res,
@@ -223,6 +285,7 @@ impl Voxelizer {
         ctx: &GpuContext,
         params: &wgpu::Buffer,
         res: u32,
+        ao_texel: u32,
     ) -> Result<Grid, RenderError> {
         let serial = self.next_serial;
         self.next_serial += 1;
@@ -252,26 +315,7 @@ impl Voxelizer {
             );
             let stats = buffer(ctx, "volume/voxelize/stats", 16, storage);
             let occupancy = buffer(ctx, "volume/resolve/occupancy", blocks, storage);
-            let volume_texture = |label: &str| {
-                let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d {
-                        width: res,
-                        height: res,
-                        depth_or_array_layers: res,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D3,
-                    format: VOLUME_FORMAT,
-                    usage: wgpu::TextureUsages::STORAGE_BINDING
-                        | wgpu::TextureUsages::TEXTURE_BINDING
-                        | wgpu::TextureUsages::COPY_SRC,
-                    view_formats: &[],
-                });
-                let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-                (texture, view)
-            };
+            let volume_texture = |label: &str| texture_3d(ctx, label, res, VOLUME_FORMAT);
             let (texture, view) = volume_texture("volume/resolve/texture");
             let (highlight_texture, highlight_view) = volume_texture("volume/resolve/highlights");
             let group =
@@ -320,6 +364,31 @@ impl Voxelizer {
                 resource: wgpu::BindingResource::TextureView(&highlight_view),
             });
             let resolve_group = group("volume/volume_resolve/bind-group", &self.resolve.layout, &e);
+            let ao = (ao_texel > 0).then(|| {
+                let ao_res = ao_resolution(res, ao_texel);
+                let (texture, ao_view) =
+                    texture_3d(ctx, "volume/ao_bake/texture", ao_res, AO_FORMAT);
+                let group = crate::bind::bind_group(
+                    ctx,
+                    "volume/ao_bake/bind-group",
+                    &self.ao_bake.layout,
+                    &[
+                        (0, params.as_entire_binding()),
+                        (1, grid.as_entire_binding()),
+                        (2, occupancy.as_entire_binding()),
+                        (3, wgpu::BindingResource::TextureView(&view)),
+                        (4, wgpu::BindingResource::Sampler(&self.sampler)),
+                        (5, wgpu::BindingResource::TextureView(&ao_view)),
+                    ],
+                );
+                BakedAo {
+                    texture,
+                    view: ao_view,
+                    group,
+                    texel: ao_texel,
+                    res: ao_res,
+                }
+            });
             Grid {
                 keys,
                 grid,
@@ -331,6 +400,7 @@ impl Voxelizer {
                 view,
                 highlight_texture,
                 highlight_view,
+                ao,
                 bounds_group,
                 voxelize_group,
                 resolve_group,
@@ -341,8 +411,9 @@ impl Voxelizer {
         })
     }
 
-    /// Give object `object` a `res³` volume reading its settings from `params`, unless it has
-    /// one of that resolution; true when one was allocated (the caller rebuilds the bind groups
+    /// Give object `object` a `res³` volume reading its settings from `params`, with a baked
+    /// ambient-occlusion texture of `ao_texel` voxels a texel (0: none), unless it has one of
+    /// that resolution and texel; true when one was allocated (the caller rebuilds the bind groups
     /// that show it: [`Voxelizer::grid_serial`] tells which). Counters too small for it grow,
     /// which rebuilds every grid.
     pub(crate) fn ensure_grid(
@@ -351,15 +422,19 @@ impl Voxelizer {
         object: usize,
         params: &wgpu::Buffer,
         res: u32,
+        ao_texel: u32,
     ) -> Result<bool, RenderError> {
-        if self.grid(object).is_some_and(|g| g.res == res) {
+        if self
+            .grid(object)
+            .is_some_and(|g| g.res == res && g.ao_texel() == ao_texel)
+        {
             return Ok(false);
         }
         Self::check(ctx, res)?;
         if res > self.scratch_res {
             self.resize_scratch(ctx, res)?;
         }
-        let grid = self.allocate_grid(ctx, params, res)?;
+        let grid = self.allocate_grid(ctx, params, res, ao_texel)?;
         if self.grids.len() <= object {
             self.grids.resize_with(object + 1, || None);
         }
@@ -385,14 +460,14 @@ impl Voxelizer {
     fn resize_scratch(&mut self, ctx: &GpuContext, res: u32) -> Result<(), RenderError> {
         self.scratch = Self::allocate_scratch(ctx, res)?;
         self.scratch_res = res;
-        let kept: Vec<Option<(wgpu::Buffer, u32)>> = self
+        let kept: Vec<Option<(wgpu::Buffer, u32, u32)>> = self
             .grids
             .iter()
-            .map(|g| g.as_ref().map(|g| (g.params.clone(), g.res)))
+            .map(|g| g.as_ref().map(|g| (g.params.clone(), g.res, g.ao_texel())))
             .collect();
         for (object, k) in kept.into_iter().enumerate() {
-            if let Some((params, res)) = k {
-                let grid = self.allocate_grid(ctx, &params, res)?;
+            if let Some((params, res, ao_texel)) = k {
+                let grid = self.allocate_grid(ctx, &params, res, ao_texel)?;
                 self.grids[object] = Some(grid);
             }
         }
@@ -464,8 +539,10 @@ impl Voxelizer {
 
     /// Bytes object `object`'s volume keeps between frames (0 without one).
     pub fn object_grid_bytes(&self, object: usize) -> u64 {
-        self.grid(object)
-            .map_or(0, |g| Self::settings_at(g.res).resident_bytes())
+        self.grid(object).map_or(0, |g| {
+            Self::settings_at(g.res).resident_bytes()
+                + g.ao.as_ref().map_or(0, |a| u64::from(a.res).pow(3) * 4)
+        })
     }
 
     /// Objects that have a volume.
@@ -496,6 +573,11 @@ impl Voxelizer {
         self.grid(object).map(|g| &g.highlight_view)
     }
 
+    /// Object `object`'s baked ambient-occlusion texture (`None` when it has no volume).
+    pub(crate) fn ao_view(&self, object: usize) -> Option<&wgpu::TextureView> {
+        self.grid(object)?.ao.as_ref().map(|a| &a.view)
+    }
+
     /// The uniform copy of the grid object `object`'s last voxelization fitted.
     pub(crate) fn grid_uniform(&self, object: usize) -> Option<&wgpu::Buffer> {
         self.grid(object).map(|g| &g.grid_uniform)
@@ -512,9 +594,9 @@ impl Voxelizer {
     }
 
     /// Record a whole voxelization of `geometry` into object `object`'s volume (clear the
-    /// counters, bounds, voxelize, resolve, grid copy); nothing when it has none. Its
-    /// [`VolumeParams`] uniform must describe this geometry and resolution. Voxelizations
-    /// recorded one after another share the counters.
+    /// counters, bounds, voxelize, resolve, the ambient-occlusion bake when it has the texture,
+    /// grid copy); nothing when it has none. Its [`VolumeParams`] uniform must describe this geometry
+    /// and resolution. Voxelizations recorded one after another share the counters.
     pub(crate) fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -546,6 +628,9 @@ impl Voxelizer {
             self.voxelize.encode(&mut pass, &g.voxelize_group, geometry);
             self.resolve
                 .encode(&mut pass, &g.resolve_group, &g.resolve_args);
+            if let Some(ao) = &g.ao {
+                self.ao_bake.encode(&mut pass, &ao.group, ao.res);
+            }
         }
         encoder.copy_buffer_to_buffer(&g.grid, 0, &g.grid_uniform, 0, Some(GRID_BYTES));
     }
@@ -576,6 +661,7 @@ impl Voxelizer {
             resolution: settings.resolution,
             march_shadows: u32::from(settings.shadows),
             march_ao: u32::from(settings.ao),
+            ao_texel: settings.ao_texel,
             strand_width: settings.strand_width,
             occlusion: settings.occlusion.gpu(),
             shade_samples: settings.shade_samples,
@@ -638,7 +724,9 @@ impl Voxelizer {
         settings.validate()?;
         self.set_resolution(ctx, settings.resolution)?;
         let params0 = self.params0.clone();
-        self.ensure_grid(ctx, 0, &params0, settings.resolution)?;
+        // The raymarcher's AO (`ao`) is the standalone volume's only reader of the bake.
+        let ao_texel = if settings.ao { settings.ao_texel } else { 0 };
+        self.ensure_grid(ctx, 0, &params0, settings.resolution, ao_texel)?;
         let mut params = Self::params(settings, geometry);
         params.fade_ref = fade_ref;
         match view {

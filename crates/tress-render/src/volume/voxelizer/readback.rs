@@ -30,6 +30,9 @@ pub struct VolumeReadback {
     pub texels: Vec<[f32; 4]>,
     /// Per voxel: the texel's bytes (`tress_shading::voxelize::encode_texel`).
     pub texel_bytes: Vec<[u8; 4]>,
+    /// Per texel of the baked ambient-occlusion texture (`ao_resolution(res, ao_texel)³`, x
+    /// fastest): the visibility's byte (255: unoccluded); empty without one.
+    pub ao_texels: Vec<u8>,
     /// Per occupancy block: 1 when occupied.
     pub occupancy: Vec<u32>,
     /// Deposits and drops.
@@ -59,6 +62,14 @@ impl Voxelizer {
             .chunks_exact(4)
             .map(|t| [t[0], t[1], t[2], t[3]])
             .collect();
+        let ao_texels: Vec<u8> = match &g.ao {
+            Some(ao) => self
+                .read_texture(ctx, &ao.texture, ao.res)?
+                .chunks_exact(4)
+                .map(|t| t[0])
+                .collect(),
+            None => Vec::new(),
+        };
         let highlight_words: Vec<u32> =
             bytemuck::cast_slice(&self.read(ctx, &self.scratch.highlights, n * 8)?).to_vec();
         let mut texels = Vec::with_capacity(n as usize);
@@ -86,6 +97,7 @@ impl Voxelizer {
             highlight_texels,
             texels,
             texel_bytes,
+            ao_texels,
             occupancy,
             stats,
         })
