@@ -107,6 +107,9 @@
 //!   `(1 - shadow_alpha)^n` multiplies the hair's shaded color (with `occlusion = "adsm"`, ADSM's
 //!   `r` per unit of the ball inside the hair). The raymarcher uses it with `ao = true`, the
 //!   rasterizer with `strands.ao = true`; both are off by default and agree only when both are on.
+//!   By default (`ao_texel = 1`) it is baked after each voxelization at every voxel a point on a
+//!   strand can read (`ao_bake.wgsl`) and read with one filtered lookup; `ao_texel = 0` evaluates
+//!   the samples at every shaded point, as the paper does.
 //!
 //! Memory: `5 · 4` bytes of counters (the voxelization's scratch: the count, two tangent words,
 //! two highlight words) and `2 · 4` bytes of texture per voxel (the resident volume the frame
