@@ -224,4 +224,44 @@ fn marschner_frames_match_the_cpu_dual_scattering() {
         (shadowed - lit).abs().max_element() > 0.2 * lit.max_element(),
         "shadowed {shadowed} vs lit {lit}"
     );
+    // `multiple_scattering = false`: single scattering only, dual scattering's d_f and d_b 0.
+    renderer
+        .set_settings(
+            &ctx,
+            StrandSettings {
+                multiple_scattering: false,
+                ..settings.clone()
+            },
+        )
+        .unwrap();
+    let single_img = frame(&ctx, &mut renderer, &hair, &[light], material);
+    let mut single_ds = ds;
+    single_ds.params.y = 0.0;
+    single_ds.params.z = 0.0;
+    let single = |strands: f32, direct: f32| {
+        BASE * AMBIENT
+            + dual_scattering_lighting(
+                &m,
+                &single_ds,
+                Vec3::X,
+                to_light,
+                radiance,
+                Vec3::Z,
+                strands,
+                direct,
+            )
+    };
+    let want = single(n, direct);
+    let row = ((1.0 - RECEIVER.y) / PIXEL) as u32;
+    let got = Vec3::from_slice(&single_img.get(32, row).expect("in image")[..3]);
+    assert!(
+        (got - want).abs().max_element() < 0.01 * want.max_element().max(0.1),
+        "single scattering: {got} vs {want}"
+    );
+    // The shadowed receiver loses the light scattered to it through the occluder.
+    assert!(
+        (shade(n, direct) - want).max_element() > 0.05 * want.max_element(),
+        "multiple scattering adds {} to {want}",
+        shade(n, direct) - want
+    );
 }

@@ -707,7 +707,7 @@ fn baked_ao_gives_the_per_point_ao() {
         sum / n.max(1) as f32
     };
     for technique in [TechniqueKind::Strands, TechniqueKind::Volume] {
-        s.renderer.set_technique(technique);
+        s.renderer.set_technique(technique).expect("technique");
         let frame = |s: &mut Scene, ao: bool, ao_texel: u32| {
             let strands = StrandSettings { ao, ..strands() };
             s.renderer.set_settings(&s.ctx, strands).expect("strands");

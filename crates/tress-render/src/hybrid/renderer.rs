@@ -628,6 +628,11 @@ impl Renderer {
             let uniform = slot.fiber.get(&d.material.fiber);
             material.fiber = uniform.marschner;
             material.dual = uniform.dual;
+            if !self.settings.multiple_scattering {
+                // Dual scattering's d_f and d_b: no forward or backward scattered light.
+                material.dual.params[1] = 0.0;
+                material.dual.params[2] = 0.0;
+            }
         }
         let q = &ctx.queue;
         q.write_buffer(&slot.params, 0, bytemuck::bytes_of(&params));

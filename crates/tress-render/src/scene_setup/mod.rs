@@ -223,6 +223,7 @@ struct StrandTable {
     width_px: Option<f32>,
     alpha: Option<f32>,
     shading: Option<String>,
+    multiple_scattering: Option<bool>,
     coverage: Option<bool>,
     thickness_fade: Option<String>,
     oit: Option<String>,
@@ -251,6 +252,7 @@ pub fn strand_settings(scene: &Scene) -> Result<StrandSettings, RenderError> {
     set!(
         width_px,
         alpha,
+        multiple_scattering,
         coverage,
         k,
         ppll_nodes_per_pixel,

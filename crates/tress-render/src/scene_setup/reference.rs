@@ -22,6 +22,13 @@ pub(crate) fn strands() -> Vec<SettingDoc> {
              see [Physically based strands](scenes.md#physically-based-strands-shading--marschner))",
         ),
         doc(
+            "multiple_scattering",
+            d.multiple_scattering,
+            "`shading = \"marschner\"`: add the light scattered through other strands (dual \
+             scattering's forward and backward terms) to each strand's R, TT and TRT; `false` \
+             is single scattering only, the reference tracer's `trace.bounces = 0`",
+        ),
+        doc(
             "coverage",
             d.coverage,
             "multiply alpha by the §3.2 line coverage",

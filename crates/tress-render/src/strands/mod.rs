@@ -193,6 +193,11 @@ pub struct StrandSettings {
     pub alpha: f32,
     /// Shading model.
     pub shading: Shading,
+    /// Under `shading = "marschner"`: light scattered through other strands (dual scattering's
+    /// forward and backward terms) on top of each strand's own R, TT and TRT lobes; `false`
+    /// keeps single scattering only, the reference tracer's `trace.bounces = 0` (to measure what
+    /// multiple scattering adds). Strands and raymarcher alike.
+    pub multiple_scattering: bool,
     /// Multiply alpha by the §3.2 line coverage.
     pub coverage: bool,
     /// How alpha follows the asset's thickness (when it has thickness).
@@ -240,6 +245,7 @@ impl Default for StrandSettings {
             width_px: 1.5,
             alpha: 0.6,
             shading: Shading::KajiyaKay,
+            multiple_scattering: true,
             coverage: true,
             thickness_fade: ThicknessFade::Tip,
             oit: Oit::Auto,
