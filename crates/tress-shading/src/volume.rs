@@ -292,10 +292,10 @@ pub fn ao_texel_centre(t: UVec3, texel: u32) -> Vec3 {
 
 /// Whether the bake evaluates AO texel `t` of `texel` voxels (`texel_reached` in
 /// `volume/ao_bake.wgsl`): a point at voxel position `x` reads the texels whose centres lie
-/// within `texel` of it, so points in voxels `texel · t - ⌈texel/2⌉ ..= texel · t + ⌈3 texel/2⌉
-/// - 1`; it is evaluated when one of those voxels lies in an occupied block (`occupied(block)`,
-/// `block` below `occupancy_res` per axis, blocks of `block_edge` voxels). The rest hold 1: no
-/// shaded point reads them.
+/// within `texel` of it, so points in voxels from `texel · t - ⌈texel/2⌉` to
+/// `texel · t + ⌈3 texel/2⌉ - 1`; it is evaluated when one of those voxels lies in an occupied
+/// block (`occupied(block)`, `block` below `occupancy_res` per axis, blocks of `block_edge`
+/// voxels). The rest hold 1: no shaded point reads them.
 pub fn ao_texel_reached(
     t: UVec3,
     texel: u32,
