@@ -194,11 +194,11 @@ fn marschner_frames_match_the_cpu_dual_scattering() {
     );
     let n = strands_from_visibility(direct, settings.shadow_alpha);
     assert!(n > 0.5, "{n} strands in the way");
-    let shade = |strands: f32, direct: f32| {
+    let shade_with = |ds: &DualScattering, strands: f32, direct: f32| {
         BASE * AMBIENT
             + dual_scattering_lighting(
                 &m,
-                &ds,
+                ds,
                 Vec3::X,
                 to_light,
                 radiance,
@@ -207,6 +207,7 @@ fn marschner_frames_match_the_cpu_dual_scattering() {
                 direct,
             )
     };
+    let shade = |strands: f32, direct: f32| shade_with(&ds, strands, direct);
     for (centre, want) in [(RECEIVER, shade(n, direct)), (OCCLUDER, shade(0.0, 1.0))] {
         let row = ((1.0 - centre.y) / PIXEL) as u32;
         for x in [8, 32, 56] {
@@ -238,20 +239,7 @@ fn marschner_frames_match_the_cpu_dual_scattering() {
     let mut single_ds = ds;
     single_ds.params.y = 0.0;
     single_ds.params.z = 0.0;
-    let single = |strands: f32, direct: f32| {
-        BASE * AMBIENT
-            + dual_scattering_lighting(
-                &m,
-                &single_ds,
-                Vec3::X,
-                to_light,
-                radiance,
-                Vec3::Z,
-                strands,
-                direct,
-            )
-    };
-    let want = single(n, direct);
+    let want = shade_with(&single_ds, n, direct);
     let row = ((1.0 - RECEIVER.y) / PIXEL) as u32;
     let got = Vec3::from_slice(&single_img.get(32, row).expect("in image")[..3]);
     assert!(

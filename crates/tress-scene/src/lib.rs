@@ -64,7 +64,7 @@ mod technique;
 pub use error::SceneError;
 pub use material::{DEFAULT_EUMELANIN, DEFAULT_PHEOMELANIN, Material};
 pub use parts::{Camera, FollowSpec, GeneratorSpec, HairSpec, HeadSpec, Light, Output, Transform};
-pub use scene::{GeneratedHead, HeadSource, Scene};
+pub use scene::{DEFAULT_AMBIENT, GeneratedHead, HeadSource, Scene};
 pub use technique::{TECHNIQUES, TechniqueKind, UnknownTechnique};
 
 #[cfg(test)]

@@ -18,6 +18,9 @@ use crate::parts::{Camera, HairSpec, HeadSpec, Light, Output, color, validate_li
 
 use crate::technique::TechniqueKind;
 
+/// The ambient light of a scene that does not set `ambient` (linear, per channel).
+pub const DEFAULT_AMBIENT: f32 = 0.08;
+
 /// A scene: camera, lights, hair assets, head, output image and technique settings.
 ///
 /// Built from TOML with [`Scene::from_path`] or [`Scene::from_str`]; every key has a default
@@ -30,6 +33,9 @@ pub struct Scene {
     pub technique: String,
     /// Background color (linear RGB).
     pub background: Vec3,
+    /// Constant ambient light of every technique's shading and the reference tracer's sky
+    /// (linear, per channel; default [`DEFAULT_AMBIENT`]).
+    pub ambient: f32,
     /// `[camera]`.
     pub camera: Camera,
     /// `[[light]]`: directional lights.
@@ -76,6 +82,7 @@ impl Default for Scene {
         Scene {
             technique: "strands".into(),
             background: Vec3::splat(0.2),
+            ambient: DEFAULT_AMBIENT,
             camera: Camera::default(),
             lights: Light::default_rig(),
             hair: Vec::new(),
@@ -224,6 +231,12 @@ impl Scene {
             return Err(SceneError::invalid("technique", e.to_string()));
         }
         color("background", self.background)?;
+        if !(self.ambient >= 0.0 && self.ambient.is_finite()) {
+            return Err(SceneError::invalid(
+                "ambient",
+                format!("must be finite and non-negative, got {}", self.ambient),
+            ));
+        }
         self.camera.validate()?;
         validate_lights(&self.lights)?;
         for (i, h) in self.hair.iter().enumerate() {

@@ -136,6 +136,8 @@ fn values_are_validated() {
     let cases = [
         ("technique = \"raytrace\"\n", "technique"),
         ("background = [-1, 0, 0]\n", "background"),
+        ("ambient = -0.1\n", "ambient"),
+        ("ambient = nan\n", "ambient"),
         ("[camera]\nnear = 0\n", "camera.near"),
         ("[camera]\nnear = 10\nfar = 5\n", "camera.far"),
         ("[camera]\nfov_y_deg = 180\n", "camera.fov_y_deg"),

@@ -114,9 +114,9 @@ pub struct TraceSettings {
     pub ao_radius: f32,
     /// AO rays per camera sample (`0..=1024`; default 1; 0 turns AO off: AO = 1).
     pub ao_samples: u32,
-    /// Ambient light (linear, per channel), multiplied by the AO (default 0.08, the ambient of
-    /// `tress render`).
-    pub ambient: f32,
+    /// Ambient light (linear, per channel), multiplied by the AO; `None` (default): the scene's
+    /// `ambient`, the one `tress render` shades with.
+    pub ambient: Option<f32>,
     /// How wide strands are.
     pub width: StrandWidth,
     /// In [`StrandWidth::Screen`] mode: the strand's width in pixels. `None` (default): half the
@@ -140,7 +140,7 @@ impl Default for TraceSettings {
             aov: Aov::Color,
             ao_radius: 5.0,
             ao_samples: 1,
-            ambient: 0.08,
+            ambient: None,
             width: StrandWidth::Auto,
             width_px: None,
             shadows: true,
@@ -181,7 +181,7 @@ impl TraceSettings {
         if self.ao_samples > 1024 {
             return bad("ao_samples", "must lie in 0..=1024");
         }
-        if !(self.ambient >= 0.0 && self.ambient.is_finite()) {
+        if self.ambient.is_some_and(|a| !(a >= 0.0 && a.is_finite())) {
             return bad("ambient", "must be finite and non-negative");
         }
         if self.bounces > 1024 {
@@ -221,7 +221,7 @@ impl TraceSettings {
             "ao_samples" => {
                 next.ao_samples = u32::try_from(int(value)?).map_err(|_| err("too large".into()))?
             }
-            "ambient" => next.ambient = num(value)?,
+            "ambient" => next.ambient = Some(num(value)?),
             "width" => next.width = value.parse()?,
             "width_px" => next.width_px = Some(num(value)?),
             "bounces" => {

@@ -54,6 +54,8 @@ pub struct PreparedScene {
     pub material: Material,
     /// Background (clear) color, linear RGB.
     pub background: Vec3,
+    /// Constant ambient light (linear, per channel).
+    pub ambient: f32,
     /// Strand technique settings from `[strands]`.
     pub strands: StrandSettings,
     /// Volume technique settings from `[volume]`.
@@ -180,6 +182,7 @@ impl PreparedScene {
             lights,
             material,
             background: scene.background,
+            ambient: scene.ambient,
             strands,
             volume,
             hybrid,

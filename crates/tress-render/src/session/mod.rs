@@ -64,9 +64,9 @@ use crate::{
 /// [`tress_scene::TechniqueKind::ALL`]).
 pub use tress_scene::{TECHNIQUES, TechniqueKind};
 
-/// Constant ambient light of every technique's shading (linear RGB per channel), as in
-/// `tress render`.
-pub const AMBIENT: f32 = 0.08;
+/// Constant ambient light of every technique's shading (linear RGB per channel) of a scene that
+/// does not set `ambient`.
+pub const AMBIENT: f32 = tress_scene::DEFAULT_AMBIENT;
 
 /// Finds the SATF database for a scene's `[satf]` settings (the CLI's loads the file or its
 /// cache, baking it on first use). The error is one line.
@@ -406,6 +406,7 @@ impl Session {
                 self.prepared.lights = prepared.lights;
                 self.prepared.material = prepared.material;
                 self.prepared.background = prepared.background;
+                self.prepared.ambient = prepared.ambient;
                 self.prepared.strands = prepared.strands;
                 self.prepared.volume = prepared.volume;
                 self.prepared.hybrid = prepared.hybrid;
@@ -630,7 +631,7 @@ impl Session {
             shared: SharedInputs {
                 camera: *camera,
                 lights: lights.unwrap_or(&self.prepared.lights),
-                ambient: Vec3::splat(AMBIENT),
+                ambient: Vec3::splat(self.prepared.ambient),
                 head: self.head.as_ref(),
                 clear: self.prepared.clear_color().map(|c| wgpu::Color {
                     a: if self.transparent { 0.0 } else { c.a },
@@ -671,6 +672,6 @@ fn is_light_key(key: &str) -> bool {
     let root = key.split('.').next().unwrap_or("");
     matches!(
         root,
-        "strands" | "volume" | "hybrid" | "light" | "lights" | "background"
+        "strands" | "volume" | "hybrid" | "light" | "lights" | "background" | "ambient"
     ) || (root == "hair" && key.contains(".material."))
 }

@@ -141,6 +141,8 @@ pub struct Tracer {
     vertex_colors: Option<Vec<Vec3>>,
     hair_center: Vec3,
     background: Vec3,
+    /// The ambient light: `trace.ambient`, else the scene's.
+    ambient: f32,
     prims: Primitives,
     build_seconds: f64,
 }
@@ -216,6 +218,7 @@ impl Tracer {
             vertex_colors,
             hair_center,
             background: scene.background,
+            ambient: settings.ambient.unwrap_or(scene.ambient),
             prims,
             build_seconds: start.elapsed().as_secs_f64(),
         })
@@ -385,7 +388,7 @@ impl Tracer {
         };
         let v = -ray.dir;
         let aov = self.settings.aov;
-        let want_ao = aov == Aov::Ao || (aov == Aov::Color && self.settings.ambient > 0.0);
+        let want_ao = aov == Aov::Ao || (aov == Aov::Color && self.ambient > 0.0);
         let want_shadow = aov != Aov::Ao;
         match kind {
             HitKind::Segment { seg, s } => {
@@ -405,7 +408,7 @@ impl Tracer {
                     let (i, j) = (seg.vertex as usize, seg.vertex as usize + 1);
                     c[i] + (c[j] - c[i]) * s
                 });
-                let mut color = Vec3::splat(self.settings.ambient) * base * ao;
+                let mut color = Vec3::splat(self.ambient) * base * ao;
                 let (mut vis_sum, mut weight) = (0.0, 0.0);
                 for (light, &(l, radiance)) in self.lights.iter().enumerate() {
                     let vis = if want_shadow && self.settings.shadows {
@@ -468,7 +471,7 @@ impl Tracer {
                 } else {
                     1.0
                 };
-                let mut light = Vec3::splat(self.settings.ambient) * ao;
+                let mut light = Vec3::splat(self.ambient) * ao;
                 let (mut vis_sum, mut weight) = (0.0, 0.0);
                 for (index, &(l, radiance)) in self.lights.iter().enumerate() {
                     let n_dot_l = n.dot(l).max(0.0);

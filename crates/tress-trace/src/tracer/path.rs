@@ -9,9 +9,10 @@
 //!   facing it, the GPU head pass's convention, so its irradiance is `E = π · color · intensity`;
 //!   a fibre lit by it returns `f · E`, the head `HEAD_COLOR / π · E · max(n·l, 0)`.
 //! - **Environment**: a ray that leaves the scene after at least one bounce sees a uniform sky of
-//!   radiance `trace.ambient` (so a white Lambertian surface under an open sky returns
+//!   radiance `trace.ambient`, else the scene's `ambient` (so a white Lambertian surface under an open sky returns
 //!   `ambient`, like the Kajiya-Kay tracer's `ambient · AO`); camera rays see the background.
-//! - **Paths**: at every hit the lights are sampled (a shadow ray each), then the BSDF
+//! - **Paths**: at every hit the lights are sampled (a shadow ray each; `trace.shadows = false`
+//!   counts every light as unoccluded), then the BSDF
 //!   ([`ChiangBsdf::sample`], cosine-weighted for the head) picks the next direction and the
 //!   throughput is multiplied by `f / pdf`. After `trace.bounces` bounces the path ends; from the
 //!   third bounce on it plays Russian roulette, surviving with probability `min(1, max(β))`
@@ -103,7 +104,7 @@ impl Tracer {
         let mut beta = Vec3::ONE;
         let mut ray = *ray;
         let mut origin: Option<Origin> = None;
-        let env = Vec3::splat(self.settings.ambient);
+        let env = Vec3::splat(self.ambient);
         for depth in 0..=self.settings.bounces {
             *rays += 1;
             let Some((t, kind)) = self.nearest_opaque(&ray, origin) else {
@@ -153,7 +154,9 @@ impl Tracer {
                     continue;
                 }
                 *rays += 1;
-                if !self.occluded(&Ray::new(start, l, 0.0, f32::INFINITY), from) {
+                let lit = !self.settings.shadows
+                    || !self.occluded(&Ray::new(start, l, 0.0, f32::INFINITY), from);
+                if lit {
                     radiance += beta * f * (std::f32::consts::PI * light);
                 }
             }

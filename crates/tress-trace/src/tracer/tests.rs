@@ -219,7 +219,7 @@ fn ao_under_a_ceiling_is_h_over_r_squared() {
 fn coverage_settings(spp: u32) -> TraceSettings {
     TraceSettings {
         spp,
-        ambient: 1.0,
+        ambient: Some(1.0),
         ao_samples: 0,
         ..TraceSettings::default()
     }
@@ -315,7 +315,7 @@ fn shading_matches_the_tress_shading_twins() {
         "[[light]]\ndirection = [0.0, 0.6, 0.8]\ncolor = [1.0, 0.5, 0.25]\nintensity = 2.0\n";
     let s = TraceSettings {
         spp: 16,
-        ambient: 0.0,
+        ambient: Some(0.0),
         ..TraceSettings::default()
     };
     let l = Vec3::new(0.0, 0.6, 0.8);

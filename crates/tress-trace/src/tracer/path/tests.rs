@@ -27,7 +27,7 @@ fn settings(spp: u32, bounces: u32, ambient: f32) -> TraceSettings {
     TraceSettings {
         spp,
         bounces,
-        ambient,
+        ambient: Some(ambient),
         ..TraceSettings::default()
     }
 }
@@ -132,6 +132,23 @@ fn opaque_fibres_cast_hard_shadows() {
             .max_element()
             > 0.0
     );
+    // `trace.shadows = false`: the lower strand gets the light the upper one blocked, as much as
+    // a lone strand does.
+    let unshadowed = TraceSettings {
+        shadows: false,
+        ..settings(1, 0, 0.0)
+    };
+    let tr = tracer(&sc, Some(strands(&pairs, 0.4)), None, &unshadowed);
+    let lone = tracer(
+        &sc,
+        Some(strands(&pairs[..1], 0.4)),
+        None,
+        &settings(1, 0, 0.0),
+    );
+    let below = Ray::new(Vec3::new(0.0, 0.05, -5.0), Vec3::Z, 0.0, f32::INFINITY);
+    let lit = tr.path_radiance(&below, &mut Rng::new(2), &mut rays);
+    assert!(lit.max_element() > 0.0, "{lit}");
+    assert_eq!(lit, lone.path_radiance(&below, &mut Rng::new(2), &mut rays));
 }
 
 #[test]
