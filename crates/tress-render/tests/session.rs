@@ -327,3 +327,27 @@ fn hair_given_in_memory_draws_like_the_same_hair_loaded_from_a_scene() {
     );
     with_head.set(&ctx, "strands.alpha=0.5").unwrap();
 }
+
+/// The scene's top-level `ambient` reaches every technique's shading live: the frame at
+/// `ambient = 0.3` is lighter than at `0`, for each technique; a negative one is an error that
+/// changes nothing.
+#[test]
+fn the_scene_ambient_lights_every_technique() {
+    let Some(ctx) = common::gpu() else { return };
+    let mut s = session(&ctx);
+    let targets = OffscreenTargets::new(&ctx, SIZE, COLOR_FORMAT).unwrap();
+    let camera = s.camera(SIZE);
+    for t in ["strands", "volume", "patches"] {
+        s.set_technique(&ctx, t).unwrap();
+        let mut sum = |s: &mut Session, ambient: &str| -> f32 {
+            s.set(&ctx, &format!("ambient={ambient}")).unwrap();
+            s.render(&ctx, &targets.targets(), &camera, None).unwrap();
+            let img = read_texture(&ctx, &targets.color).unwrap();
+            img.pixels.iter().map(|p| p[0] + p[1] + p[2]).sum()
+        };
+        let (dark, light) = (sum(&mut s, "0"), sum(&mut s, "0.3"));
+        assert!(light > dark * 1.05, "{t}: {light} vs {dark}");
+    }
+    assert!(s.set(&ctx, "ambient=-1").is_err());
+    assert_eq!(s.scene().ambient, 0.3);
+}
