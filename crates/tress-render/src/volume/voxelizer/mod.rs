@@ -30,8 +30,8 @@ struct Scratch {
 }
 
 /// One object's volume: what stays after its voxelization (the two `rgba8unorm` textures, 8
-/// bytes a voxel, the baked ambient occlusion, half a byte a voxel, and the occupancy blocks), its
-/// fitted grid, and the bind groups of its passes over its own settings uniform and the shared
+/// bytes a voxel, the baked ambient occlusion while something reads it, 4 bytes a texel of
+/// `volume.ao_texel³` voxels, and the occupancy blocks), its fitted grid, and the bind groups of its passes over its own settings uniform and the shared
 /// [`Scratch`].
 #[derive(Debug)]
 struct Grid {
