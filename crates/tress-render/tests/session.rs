@@ -339,7 +339,7 @@ fn the_scene_ambient_lights_every_technique() {
     let camera = s.camera(SIZE);
     for t in ["strands", "volume", "patches"] {
         s.set_technique(&ctx, t).unwrap();
-        let mut sum = |s: &mut Session, ambient: &str| -> f32 {
+        let sum = |s: &mut Session, ambient: &str| -> f32 {
             s.set(&ctx, &format!("ambient={ambient}")).unwrap();
             s.render(&ctx, &targets.targets(), &camera, None).unwrap();
             let img = read_texture(&ctx, &targets.color).unwrap();
